@@ -1,0 +1,27 @@
+"""pygear: gearbox dynamics for wind-turbine drivetrains.
+
+Rigid multibody models of planetary and parallel gear stages (the improved model of
+Yang, Jiang & Han 2016, a kinetically consistent variant, and Lin & Parker 1999),
+assembled from Fortran element matrices, with modal analysis and sensitivities.
+"""
+
+from .case import Case, Gearbox, RayleighDamping, Scene, load_case
+from .components import Bearing, Body, CaseError, Carrier, Gear, Mesh, PlanetaryStage, PlanetBearing
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Bearing",
+    "Body",
+    "Carrier",
+    "Case",
+    "CaseError",
+    "Gear",
+    "Gearbox",
+    "Mesh",
+    "PlanetBearing",
+    "PlanetaryStage",
+    "RayleighDamping",
+    "Scene",
+    "load_case",
+]

@@ -1,0 +1,273 @@
+"""Cases and scenes: what a case directory describes and how it is loaded.
+
+A case is a directory holding ``case.py``, a Python file that builds a module-level
+``case = Case(...)``: the gearbox, its damping and its scenes.  A scene names the
+analyses to run and the effects they call for; nothing outside that list is built.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import importlib.util
+import math
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .components import CaseError, PlanetaryStage, require_non_negative
+
+__all__ = [
+    "ANALYSES",
+    "DOF_SETS",
+    "EFFECTS",
+    "FORMULATIONS",
+    "Case",
+    "Gearbox",
+    "RayleighDamping",
+    "Scene",
+    "find_case_dir",
+    "load_case",
+    "replace_parameter",
+    "get_parameter",
+]
+
+FORMULATIONS = ("improved", "consistent", "lin-parker")
+"""Model formulations (PHYSICS.md 3.1 and 4)."""
+
+DOF_SETS = ("spatial", "planar", "torsional")
+"""DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
+
+ANALYSES = ("modal", "sensitivity")
+"""Analyses a scene may ask for."""
+
+EFFECTS = ("speed_dependent_planet_terms",)
+"""Optional effects a scene may call for (PHYSICS.md 7)."""
+
+
+@dataclass(frozen=True)
+class RayleighDamping:
+    """Rayleigh damping C = alpha M + beta K0.
+
+    Parameters
+    ----------
+    mass_coefficient : float
+        alpha [1/s].
+    stiffness_coefficient : float
+        beta [s].
+    """
+
+    mass_coefficient: float = 0.0
+    stiffness_coefficient: float = 0.0
+
+    def validate(self, path: str) -> None:
+        require_non_negative(f"{path}.mass_coefficient", self.mass_coefficient)
+        require_non_negative(f"{path}.stiffness_coefficient", self.stiffness_coefficient)
+
+
+@dataclass(frozen=True)
+class Gearbox:
+    """Stages (and, later, couplings between them) sharing one housing."""
+
+    stages: tuple[PlanetaryStage, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "stages", tuple(self.stages))
+
+    def stage(self, name: str) -> PlanetaryStage:
+        """The stage called ``name``."""
+        for stage in self.stages:
+            if stage.name == name:
+                return stage
+        known = ", ".join(s.name for s in self.stages)
+        raise CaseError(f"no stage named {name!r} (stages: {known})")
+
+    def validate(self, path: str = "gearbox") -> None:
+        if not self.stages:
+            raise CaseError(f"{path}.stages must hold at least one stage")
+        names = [s.name for s in self.stages]
+        if len(set(names)) != len(names):
+            raise CaseError(f"{path}.stages: stage names must be unique (got {names})")
+        for stage in self.stages:
+            if not isinstance(stage, PlanetaryStage):
+                raise CaseError(f"{path}.stages: {stage!r} is not a stage")
+            stage.validate(stage.name)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What to compute and which effects to include.
+
+    Parameters
+    ----------
+    name : str
+        Scene name; output files are named after it.
+    analyses : tuple of str
+        Analyses to run, from :data:`ANALYSES`.
+    formulation : str or None
+        Formulation for this scene; the case's when None.
+    dof_set : str or None
+        DOF set from :data:`DOF_SETS`; None lets pygear pick the smallest exact one.
+    effects : tuple of str
+        Effects from :data:`EFFECTS`.
+    carrier_speed_rpm : float
+        Nominal carrier speed for speed-dependent terms [rpm].
+    """
+
+    name: str
+    analyses: tuple[str, ...] = ("modal",)
+    formulation: str | None = None
+    dof_set: str | None = None
+    effects: tuple[str, ...] = ()
+    carrier_speed_rpm: float = 0.0
+
+    def validate(self, path: str) -> None:
+        check_choice(f"{path}.formulation", self.formulation, FORMULATIONS, allow_none=True)
+        check_choice(f"{path}.dof_set", self.dof_set, DOF_SETS, allow_none=True)
+        for analysis in self.analyses:
+            check_choice(f"{path}.analyses", analysis, ANALYSES)
+        for effect in self.effects:
+            check_choice(f"{path}.effects", effect, EFFECTS)
+        if not math.isfinite(self.carrier_speed_rpm):
+            raise CaseError(f"{path}.carrier_speed_rpm must be finite")
+
+
+@dataclass(frozen=True)
+class Case:
+    """A gearbox with its damping, formulation and scenes.
+
+    Parameters
+    ----------
+    name : str
+        Case name (usually the directory name).
+    gearbox : Gearbox
+        The stages.
+    formulation : str
+        Default formulation of the case's scenes.
+    damping : RayleighDamping
+        Damping model.
+    scenes : tuple of Scene
+        The scenes ``pygear run`` executes.
+    description : str
+        One line for output files.
+    """
+
+    name: str
+    gearbox: Gearbox
+    formulation: str = "consistent"
+    damping: RayleighDamping = field(default_factory=RayleighDamping)
+    scenes: tuple[Scene, ...] = (Scene("modal"),)
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "scenes", tuple(self.scenes))
+        self.validate()
+
+    def validate(self) -> None:
+        """Check the whole case; raise :class:`CaseError` naming the first bad parameter."""
+        check_choice("formulation", self.formulation, FORMULATIONS)
+        self.gearbox.validate()
+        self.damping.validate("damping")
+        names = [s.name for s in self.scenes]
+        if len(set(names)) != len(names):
+            raise CaseError(f"scenes: scene names must be unique (got {names})")
+        for scene in self.scenes:
+            scene.validate(f"scenes.{scene.name}")
+
+    def scene(self, name: str) -> Scene:
+        """The scene called ``name``."""
+        for scene in self.scenes:
+            if scene.name == name:
+                return scene
+        known = ", ".join(s.name for s in self.scenes)
+        raise CaseError(f"--scene: case {self.name!r} has no scene {name!r} (scenes: {known})")
+
+    def input_hash(self) -> str:
+        """A short hash of every input value (stable across runs)."""
+        return hashlib.sha256(repr(self).encode()).hexdigest()[:16]
+
+
+def check_choice(path: str, value: str | None, choices: Iterable[str], allow_none: bool = False) -> None:
+    """Raise :class:`CaseError` unless ``value`` is one of ``choices``."""
+    choices = tuple(choices)
+    if value is None and allow_none:
+        return
+    if value not in choices:
+        raise CaseError(f"{path} must be one of {', '.join(choices)} (got {value!r})")
+
+
+def get_parameter(case: Case, path: str) -> object:
+    """Value of a dotted parameter path such as ``planetary.sun_mesh.stiffness``."""
+    parts = path.split(".")
+    target: object = _resolve_root(case, parts[0], path)
+    for part in parts[1:]:
+        if not dataclasses.is_dataclass(target) or not hasattr(target, part):
+            raise CaseError(f"parameter {path!r}: {part!r} is not a field of {type(target).__name__}")
+        target = getattr(target, part)
+    return target
+
+
+def replace_parameter(case: Case, path: str, value: object) -> Case:
+    """A copy of ``case`` with the parameter at ``path`` set to ``value`` (then validated)."""
+    parts = path.split(".")
+    get_parameter(case, path)
+    if parts[0] in ("damping", "formulation", "name", "description"):
+        return _replace_path(case, parts, value)
+    stages = tuple(
+        _replace_path(s, parts[1:], value) if s.name == parts[0] else s for s in case.gearbox.stages
+    )
+    return dataclasses.replace(case, gearbox=dataclasses.replace(case.gearbox, stages=stages))
+
+
+def _resolve_root(case: Case, first: str, path: str) -> object:
+    if first in ("damping", "formulation", "name", "description"):
+        return case
+    try:
+        return case.gearbox.stage(first)
+    except CaseError:
+        stages = ", ".join(s.name for s in case.gearbox.stages)
+        raise CaseError(
+            f"parameter {path!r} must start with a stage name ({stages}) or 'damping'"
+        ) from None
+
+
+def _replace_path(obj: object, parts: list[str], value: object) -> object:
+    if len(parts) == 1:
+        return dataclasses.replace(obj, **{parts[0]: value})
+    child = getattr(obj, parts[0])
+    return dataclasses.replace(obj, **{parts[0]: _replace_path(child, parts[1:], value)})
+
+
+def find_case_dir(reference: str | os.PathLike) -> Path:
+    """The directory of a case given as a path or as a name under ``cases/``.
+
+    Looked up, in order: the path itself, ``$PYGEAR_CASES/<name>``, ``./cases/<name>``
+    and the ``cases/`` folder of the source tree pygear was installed from.
+    """
+    path = Path(reference)
+    if path.name == "case.py":
+        path = path.parent
+    candidates = [path]
+    if not path.is_absolute() and len(path.parts) == 1:
+        if os.environ.get("PYGEAR_CASES"):
+            candidates.append(Path(os.environ["PYGEAR_CASES"]) / path)
+        candidates.append(Path.cwd() / "cases" / path)
+        candidates.append(Path(__file__).resolve().parent.parent / "cases" / path)
+    for candidate in candidates:
+        if (candidate / "case.py").is_file():
+            return candidate.resolve()
+    looked = ", ".join(str(c) for c in candidates)
+    raise CaseError(f"CASE {str(reference)!r}: no case.py found (looked in {looked})")
+
+
+def load_case(reference: str | os.PathLike) -> Case:
+    """Load the ``case`` object that ``<case dir>/case.py`` defines."""
+    directory = find_case_dir(reference)
+    spec = importlib.util.spec_from_file_location(f"pygear_case_{directory.name}", directory / "case.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    case = getattr(module, "case", None)
+    if not isinstance(case, Case):
+        raise CaseError(f"{directory / 'case.py'} must define a module-level `case = Case(...)`")
+    return case

@@ -1,0 +1,347 @@
+"""Components of a gearbox: bodies, bearings, meshes and planetary stages.
+
+Every component is a frozen dataclass holding SI values (m, kg, s, N, rad); only
+parameters whose name says so are in degrees (``pressure_angle_deg``).  Nothing is
+checked when a component is built: :func:`validate` walks a whole gearbox and names
+the first parameter that breaks a rule by its full path (``planetary.sun.mass``),
+before any work starts.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, is_dataclass
+
+__all__ = [
+    "Bearing",
+    "Body",
+    "CaseError",
+    "Gear",
+    "Mesh",
+    "PlanetBearing",
+    "PlanetaryStage",
+    "Carrier",
+    "validate_component",
+]
+
+
+class CaseError(ValueError):
+    """A case parameter breaks a rule; the message names the parameter and the rule."""
+
+
+def _finite(value: float) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def require_positive(path: str, value: float) -> None:
+    """Raise :class:`CaseError` unless ``value`` is a finite number > 0."""
+    if not _finite(value) or value <= 0:
+        raise CaseError(f"{path} must be a positive finite number (got {value!r})")
+
+
+def require_non_negative(path: str, value: float) -> None:
+    """Raise :class:`CaseError` unless ``value`` is a finite number >= 0."""
+    if not _finite(value) or value < 0:
+        raise CaseError(f"{path} must be a finite number >= 0 (got {value!r})")
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body on the stage axis (a rotor or generator inertia, a shaft).
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg].
+    polar_inertia : float
+        Moment of inertia about the axis [kg m^2].
+    tilt_inertia : float
+        Moment of inertia about a diameter (bending, x and y) [kg m^2].
+    """
+
+    mass: float
+    polar_inertia: float
+    tilt_inertia: float
+
+    def validate(self, path: str) -> None:
+        for name in ("mass", "polar_inertia", "tilt_inertia"):
+            require_positive(f"{path}.{name}", getattr(self, name))
+
+
+@dataclass(frozen=True)
+class Gear(Body):
+    """A gear: a body with a base radius and (optionally) a tooth number.
+
+    Parameters
+    ----------
+    base_radius : float
+        Base-circle radius r_b [m].
+    teeth : int or None
+        Number of teeth Z; needed for phasing and the tooth-contact table.
+    """
+
+    base_radius: float = float("nan")
+    teeth: int | None = None
+
+    def validate(self, path: str) -> None:
+        super().validate(path)
+        require_positive(f"{path}.base_radius", self.base_radius)
+        if self.teeth is not None and (not isinstance(self.teeth, int) or self.teeth < 3):
+            raise CaseError(f"{path}.teeth must be a whole number >= 3 (got {self.teeth!r})")
+
+
+@dataclass(frozen=True)
+class Carrier(Body):
+    """The planet carrier.
+
+    Parameters
+    ----------
+    radius : float
+        Carrier radius r_c: the distance from the stage axis to each planet centre [m].
+    """
+
+    radius: float = float("nan")
+
+    def validate(self, path: str) -> None:
+        super().validate(path)
+        require_positive(f"{path}.radius", self.radius)
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """Bearing of a central member to the housing: six independent springs.
+
+    Parameters
+    ----------
+    radial : float
+        Stiffness in x and y [N/m].
+    axial : float
+        Stiffness in z [N/m].
+    tilt : float
+        Tilting stiffness about x and y [N m/rad].
+    torsional : float
+        Torsional stiffness about z [N m/rad]; 0 for a member that turns freely.
+    """
+
+    radial: float
+    axial: float
+    tilt: float
+    torsional: float = 0.0
+
+    def validate(self, path: str) -> None:
+        for spec in fields(self):
+            require_non_negative(f"{path}.{spec.name}", getattr(self, spec.name))
+
+
+@dataclass(frozen=True)
+class PlanetBearing:
+    """Bearing between the carrier and each planet, in the planet's revolving frame.
+
+    Parameters
+    ----------
+    radial : float
+        Stiffness in the radial and tangential directions [N/m].
+    axial : float
+        Axial stiffness [N/m].
+    tilt : float
+        Tilting stiffness [N m/rad].
+    """
+
+    radial: float
+    axial: float
+    tilt: float
+
+    def validate(self, path: str) -> None:
+        for spec in fields(self):
+            require_non_negative(f"{path}.{spec.name}", getattr(self, spec.name))
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """A gear mesh: one spring on the line of action.
+
+    Parameters
+    ----------
+    stiffness : float
+        Mean (synthesizing) mesh stiffness k-bar [N/m].
+    pressure_angle_deg : float
+        Transverse operating pressure angle [deg].
+    contact_ratio : float
+        Transverse contact ratio epsilon.
+    end_to_peak : float
+        Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1].
+    """
+
+    stiffness: float
+    pressure_angle_deg: float
+    contact_ratio: float
+    end_to_peak: float = 0.6
+
+    @property
+    def pressure_angle(self) -> float:
+        """Pressure angle [rad]."""
+        return math.radians(self.pressure_angle_deg)
+
+    def validate(self, path: str) -> None:
+        require_positive(f"{path}.stiffness", self.stiffness)
+        if not _finite(self.pressure_angle_deg) or not 0 < self.pressure_angle_deg < 45:
+            raise CaseError(
+                f"{path}.pressure_angle_deg must lie in (0, 45) degrees "
+                f"(got {self.pressure_angle_deg!r})"
+            )
+        require_positive(f"{path}.contact_ratio", self.contact_ratio)
+        if not _finite(self.end_to_peak) or not 0 < self.end_to_peak <= 1:
+            raise CaseError(f"{path}.end_to_peak must lie in (0, 1] (got {self.end_to_peak!r})")
+
+
+@dataclass(frozen=True)
+class PlanetaryStage:
+    """A planetary stage: carrier, ring, sun and N identical planets.
+
+    The carrier, ring and sun live in the inertial frame; each planet in a frame
+    revolving with it (PHYSICS.md 1-3).
+
+    Parameters
+    ----------
+    name : str
+        Stage name, the first part of every DOF and parameter path.
+    carrier, ring, sun, planet : Carrier, Gear, Gear, Gear
+        The members; ``planet`` describes each of the N planets.
+    planets : int
+        Number of planets N >= 1.
+    carrier_bearing, ring_bearing, sun_bearing : Bearing
+        Bearings of the central members to the housing.
+    planet_bearing : PlanetBearing
+        Bearing of each planet on the carrier.
+    sun_mesh, ring_mesh : Mesh
+        Sun-planet and ring-planet meshes (the same for every planet).
+    planet_angles_deg : tuple of float or None
+        Angle psi_n of each planet from the x axis [deg]; equal spacing when None.
+    base_helix_angle_deg : float
+        Signed base helix angle beta_b [deg]; 0 for spur gears.
+    axial_position : float
+        Position of the stage centre along the gearbox z axis [m].
+    """
+
+    name: str
+    carrier: Carrier
+    ring: Gear
+    sun: Gear
+    planet: Gear
+    planets: int
+    carrier_bearing: Bearing
+    ring_bearing: Bearing
+    sun_bearing: Bearing
+    planet_bearing: PlanetBearing
+    sun_mesh: Mesh
+    ring_mesh: Mesh
+    planet_angles_deg: tuple[float, ...] | None = None
+    base_helix_angle_deg: float = 0.0
+    axial_position: float = 0.0
+    kind: str = field(default="planetary", init=False)
+
+    @property
+    def planet_angles(self) -> tuple[float, ...]:
+        """Planet angles psi_n [rad] (equal spacing unless given)."""
+        if self.planet_angles_deg is None:
+            return tuple(2 * math.pi * n / self.planets for n in range(self.planets))
+        return tuple(math.radians(a) for a in self.planet_angles_deg)
+
+    @property
+    def equally_spaced(self) -> bool:
+        """True when the planets sit at 360/N degree intervals from the first."""
+        first = self.planet_angles[0]
+        return all(
+            abs(math.remainder(a - first - 2 * math.pi * n / self.planets, 2 * math.pi)) < 1e-12
+            for n, a in enumerate(self.planet_angles)
+        )
+
+    @property
+    def base_helix_angle(self) -> float:
+        """Base helix angle [rad]."""
+        return math.radians(self.base_helix_angle_deg)
+
+    @property
+    def spur(self) -> bool:
+        """True for a spur stage (no helix angle)."""
+        return self.base_helix_angle_deg == 0.0
+
+    @property
+    def speed_ratio(self) -> float:
+        """Ideal ratio with the ring held, carrier in and sun out: 1 + r_br/r_bs."""
+        return 1.0 + self.ring.base_radius / self.sun.base_radius
+
+    @property
+    def member_names(self) -> tuple[str, ...]:
+        """Node names in DOF order: carrier, ring, sun, planet1..planetN."""
+        return ("carrier", "ring", "sun") + tuple(f"planet{n + 1}" for n in range(self.planets))
+
+    def validate(self, path: str | None = None) -> None:
+        """Check every parameter; raise :class:`CaseError` naming the first bad one."""
+        path = path or self.name
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise CaseError(f"stage name must be an identifier (got {self.name!r})")
+        if not isinstance(self.planets, int) or isinstance(self.planets, bool) or self.planets < 1:
+            raise CaseError(f"{path}.planets must be a whole number >= 1 (got {self.planets!r})")
+        for name in ("carrier", "ring", "sun", "planet", "carrier_bearing", "ring_bearing",
+                     "sun_bearing", "planet_bearing", "sun_mesh", "ring_mesh"):
+            getattr(self, name).validate(f"{path}.{name}")
+        if not _finite(self.base_helix_angle_deg) or abs(self.base_helix_angle_deg) >= 45:
+            raise CaseError(
+                f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees "
+                f"(got {self.base_helix_angle_deg!r})"
+            )
+        if not _finite(self.axial_position):
+            raise CaseError(f"{path}.axial_position must be finite (got {self.axial_position!r})")
+        if self.ring.base_radius <= self.planet.base_radius:
+            raise CaseError(
+                f"{path}.ring.base_radius must exceed {path}.planet.base_radius "
+                f"({self.ring.base_radius} <= {self.planet.base_radius})"
+            )
+        self._validate_angles(path)
+        self._validate_teeth(path)
+
+    def _validate_angles(self, path: str) -> None:
+        if self.planet_angles_deg is not None:
+            angles = self.planet_angles_deg
+            if len(angles) != self.planets:
+                raise CaseError(
+                    f"{path}.planet_angles_deg must list one angle per planet "
+                    f"({len(angles)} given for {self.planets} planets)"
+                )
+            if not all(_finite(a) for a in angles):
+                raise CaseError(f"{path}.planet_angles_deg must be finite numbers (got {angles!r})")
+        if self.planets < 2:
+            return
+        pitch = self.planet.base_radius / math.cos(self.sun_mesh.pressure_angle)
+        module = 2 * pitch / self.planet.teeth if self.planet.teeth else 0.0
+        tip_radius = pitch + module
+        ordered = sorted(a % (2 * math.pi) for a in self.planet_angles)
+        gaps = [b - a for a, b in zip(ordered, ordered[1:])] + [ordered[0] + 2 * math.pi - ordered[-1]]
+        smallest = min(gaps)
+        centre_distance = 2 * self.carrier.radius * math.sin(smallest / 2)
+        if centre_distance <= 2 * tip_radius:
+            raise CaseError(
+                f"{path}.planet_angles_deg: neighbouring planets {math.degrees(smallest):.3g} deg "
+                f"apart collide (centres {centre_distance * 1e3:.4g} mm apart, the planet tip "
+                f"circles need more than {2 * tip_radius * 1e3:.4g} mm)"
+            )
+
+    def _validate_teeth(self, path: str) -> None:
+        teeth = (self.sun.teeth, self.ring.teeth)
+        if None in teeth or not self.equally_spaced:
+            return
+        if (self.sun.teeth + self.ring.teeth) % self.planets:
+            raise CaseError(
+                f"{path}.planets: {self.planets} equally spaced planets cannot be assembled with "
+                f"sun.teeth = {self.sun.teeth} and ring.teeth = {self.ring.teeth}: "
+                f"(Z_s + Z_r)/N must be a whole number (got {self.sun.teeth + self.ring.teeth}"
+                f"/{self.planets}); give planet_angles_deg or other tooth numbers"
+            )
+
+
+def validate_component(component: object, path: str) -> None:
+    """Validate any component that has a ``validate(path)`` method."""
+    if not is_dataclass(component) or not hasattr(component, "validate"):
+        raise CaseError(f"{path} is not a pygear component (got {type(component).__name__})")
+    component.validate(path)
