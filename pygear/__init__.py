@@ -6,7 +6,17 @@ assembled from Fortran element matrices, with modal analysis and sensitivities.
 """
 
 from .case import Case, Gearbox, RayleighDamping, Scene, load_case
-from .components import Bearing, Body, CaseError, Carrier, Gear, Mesh, PlanetaryStage, PlanetBearing
+from .components import (
+    Bearing,
+    Body,
+    Carrier,
+    CaseError,
+    Gear,
+    Mesh,
+    PlanetaryStage,
+    PlanetBearing,
+    ToothDefect,
+)
 
 __version__ = "0.1.0"
 
@@ -23,5 +33,6 @@ __all__ = [
     "PlanetaryStage",
     "RayleighDamping",
     "Scene",
+    "ToothDefect",
     "load_case",
 ]

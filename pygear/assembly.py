@@ -13,10 +13,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _kernel
 from .case import DOF_SETS, FORMULATIONS, Case, Scene, check_choice
 from .components import CaseError, PlanetaryStage
 from .kernel import FORMULATION_CODES, MESH_KINDS, call
-from . import _kernel
 
 __all__ = [
     "CENTRAL_DOFS",
@@ -221,9 +221,7 @@ def assemble(
     stiffness_full += builder.extra_stiffness(mass_full.shape[0])
     mass = reduction.T @ mass_full @ reduction
     stiffness = reduction.T @ stiffness_full @ reduction
-    damping = (
-        case.damping.mass_coefficient * mass + case.damping.stiffness_coefficient * stiffness
-    )
+    damping = case.damping.mass_coefficient * mass + case.damping.stiffness_coefficient * stiffness
     gyroscopic = None
     if builder.gyroscopic_parts:
         gyroscopic_full = sum(
@@ -278,17 +276,23 @@ class _Builder:
 
     def add_body_mass(self, node: Node, translation: np.ndarray, rotation: np.ndarray) -> None:
         n = len(node.dof_names)
-        for motion, matrix in (("translation", translation[:n, :n]), ("rotation", rotation[:n, :n])):
+        for motion, matrix in (
+            ("translation", translation[:n, :n]),
+            ("rotation", rotation[:n, :n]),
+        ):
             for plane in ("in-plane", "out-of-plane"):
-                keep = np.array([(d in IN_PLANE_DOFS) == (plane == "in-plane") for d in node.dof_names])
+                keep = np.array(
+                    [(d in IN_PLANE_DOFS) == (plane == "in-plane") for d in node.dof_names]
+                )
                 part = np.where(np.outer(keep, keep), matrix, 0.0)
                 if np.any(part):
                     self.mass_parts.append(
                         MassPart(node.name, node.role, motion, plane, node.dofs, part)
                     )
 
-    def add_planetary_stage(self, stage: PlanetaryStage, effects: tuple[str, ...],
-                            scene: Scene | None) -> None:
+    def add_planetary_stage(
+        self, stage: PlanetaryStage, effects: tuple[str, ...], scene: Scene | None
+    ) -> None:
         lin_parker = self.formulation == "lin-parker"
         planet_dofs = PLANET_DOFS[:6] if lin_parker else PLANET_DOFS
         housing = self.nodes[0]
@@ -297,24 +301,43 @@ class _Builder:
             node = self.add_node(f"{stage.name}.{member}", "central", CENTRAL_DOFS)
             central[member] = node
             body = getattr(stage, member)
-            self.add_body_mass(node, *call("central_mass_matrix", body.mass, body.tilt_inertia,
-                                           body.polar_inertia))
+            self.add_body_mass(
+                node, *call("central_mass_matrix", body.mass, body.tilt_inertia, body.polar_inertia)
+            )
             bearing = getattr(stage, f"{member}_bearing")
             deflection, stiffness = call(
-                "central_bearing_springs", bearing.radial, bearing.axial, bearing.tilt,
-                bearing.torsional, np.array([0.0, 0.0, stage.axial_position]),
+                "central_bearing_springs",
+                bearing.radial,
+                bearing.axial,
+                bearing.tilt,
+                bearing.torsional,
+                np.array([0.0, 0.0, stage.axial_position]),
             )
             prefix = f"{stage.name}.{member}_bearing."
-            self.springs.append(SpringElement(
-                f"{stage.name}.{member}_bearing", "central_bearing",
-                tuple(prefix + p for p in ("radial", "radial", "axial", "tilt", "tilt", "torsional")),
-                np.concatenate([node.dofs, housing.dofs]), deflection, stiffness,
-            ))
+            self.springs.append(
+                SpringElement(
+                    f"{stage.name}.{member}_bearing",
+                    "central_bearing",
+                    tuple(
+                        prefix + p
+                        for p in ("radial", "radial", "axial", "tilt", "tilt", "torsional")
+                    ),
+                    np.concatenate([node.dofs, housing.dofs]),
+                    deflection,
+                    stiffness,
+                )
+            )
 
         carrier = central["carrier"]
         r_c = stage.carrier.radius
-        planet_mass = call("planet_mass_matrix", self.code, stage.planet.mass,
-                           stage.planet.tilt_inertia, stage.planet.polar_inertia, r_c)
+        planet_mass = call(
+            "planet_mass_matrix",
+            self.code,
+            stage.planet.mass,
+            stage.planet.tilt_inertia,
+            stage.planet.polar_inertia,
+            r_c,
+        )
         carrier_speed = scene.carrier_speed_rpm * math.pi / 30 if scene else 0.0
         for n, psi in enumerate(stage.planet_angles, start=1):
             node = self.add_node(f"{stage.name}.planet{n}", "planet", planet_dofs)
@@ -326,38 +349,64 @@ class _Builder:
             else:
                 self.ties[node.first + 6] = (theta_c, 1.0, "always")
             deflection, stiffness = call(
-                "planet_bearing_springs", psi, r_c, stage.planet_bearing.radial,
-                stage.planet_bearing.axial, stage.planet_bearing.tilt,
+                "planet_bearing_springs",
+                psi,
+                r_c,
+                stage.planet_bearing.radial,
+                stage.planet_bearing.axial,
+                stage.planet_bearing.tilt,
             )
             size = len(CENTRAL_DOFS) + len(planet_dofs)
             prefix = f"{stage.name}.planet_bearing."
-            self.springs.append(SpringElement(
-                f"{stage.name}.planet{n}_bearing", "planet_bearing",
-                tuple(prefix + p for p in ("radial", "radial", "axial", "tilt", "tilt")),
-                np.concatenate([carrier.dofs, node.dofs]), deflection[:size], stiffness,
-            ))
+            self.springs.append(
+                SpringElement(
+                    f"{stage.name}.planet{n}_bearing",
+                    "planet_bearing",
+                    tuple(prefix + p for p in ("radial", "radial", "axial", "tilt", "tilt")),
+                    np.concatenate([carrier.dofs, node.dofs]),
+                    deflection[:size],
+                    stiffness,
+                )
+            )
             for gear_name, mesh in (("sun", stage.sun_mesh), ("ring", stage.ring_mesh)):
                 gear = getattr(stage, gear_name)
                 (deflection,) = call(
-                    "planetary_mesh_vector", MESH_KINDS[gear_name], psi, mesh.pressure_angle,
-                    gear.base_radius, stage.planet.base_radius, r_c, stage.base_helix_angle,
+                    "planetary_mesh_vector",
+                    MESH_KINDS[gear_name],
+                    psi,
+                    mesh.pressure_angle,
+                    gear.base_radius,
+                    stage.planet.base_radius,
+                    r_c,
+                    stage.base_helix_angle,
                 )
                 dofs = np.concatenate([central[gear_name].dofs, node.dofs])
                 b = deflection[:size].reshape(-1, 1)
-                self.springs.append(SpringElement(
-                    f"{stage.name}.{gear_name}-planet{n}", "mesh", (f"{stage.name}.{gear_name}_mesh.stiffness",), dofs, b,
-                    np.array([mesh.stiffness]),
-                ))
+                self.springs.append(
+                    SpringElement(
+                        f"{stage.name}.{gear_name}-planet{n}",
+                        "mesh",
+                        (f"{stage.name}.{gear_name}_mesh.stiffness",),
+                        dofs,
+                        b,
+                        np.array([mesh.stiffness]),
+                    )
+                )
                 info = dict(
-                    name=f"{gear_name}-planet{n}", stage=stage.name,
+                    name=f"{gear_name}-planet{n}",
+                    stage=stage.name,
                     kind="external" if gear_name == "sun" else "internal",
-                    mean_stiffness=mesh.stiffness, contact_ratio=mesh.contact_ratio,
-                    end_to_peak=mesh.end_to_peak, planet=n, planet_angle=psi,
+                    mean_stiffness=mesh.stiffness,
+                    contact_ratio=mesh.contact_ratio,
+                    end_to_peak=mesh.end_to_peak,
+                    planet=n,
+                    planet_angle=psi,
                 )
                 self.mesh_records.append((info, dofs, b[:, 0]))
             if "speed_dependent_planet_terms" in effects and carrier_speed != 0.0:
                 gyroscopic, centrifugal = _kernel.planet_speed_matrices(
-                    stage.planet.mass, carrier_speed)
+                    stage.planet.mass, carrier_speed
+                )
                 n_dofs = len(planet_dofs)
                 self.gyroscopic_parts.append((node.dofs, gyroscopic[:n_dofs, :n_dofs]))
                 self.centrifugal_parts.append((node.dofs, centrifugal[:n_dofs, :n_dofs]))

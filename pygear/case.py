@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .components import CaseError, PlanetaryStage, require_non_negative
+from .components import CaseError, PlanetaryStage, ToothDefect, require_non_negative
 
 __all__ = [
     "ANALYSES",
@@ -31,6 +31,8 @@ __all__ = [
     "load_case",
     "replace_parameter",
     "get_parameter",
+    "merged_defects",
+    "validate_defects",
 ]
 
 FORMULATIONS = ("improved", "consistent", "lin-parker")
@@ -113,6 +115,10 @@ class Scene:
         Effects from :data:`EFFECTS`.
     carrier_speed_rpm : float
         Nominal carrier speed for speed-dependent terms [rpm].
+    defects : tuple of ToothDefect
+        Tooth defects of this scene, on top of the case's own (a scene's defect on
+        the same tooth replaces the case's).  Checked against the gearbox by
+        :meth:`Case.validate`.
     """
 
     name: str
@@ -121,6 +127,11 @@ class Scene:
     dof_set: str | None = None
     effects: tuple[str, ...] = ()
     carrier_speed_rpm: float = 0.0
+    defects: tuple = ()
+
+    def __post_init__(self) -> None:
+        if isinstance(self.defects, list):
+            object.__setattr__(self, "defects", tuple(self.defects))
 
     def validate(self, path: str) -> None:
         check_choice(f"{path}.formulation", self.formulation, FORMULATIONS, allow_none=True)
@@ -151,6 +162,8 @@ class Case:
         The scenes ``pygear run`` executes.
     description : str
         One line for output files.
+    defects : tuple of ToothDefect
+        Tooth defects present in every scene (cracked or missing teeth).
     """
 
     name: str
@@ -159,9 +172,12 @@ class Case:
     damping: RayleighDamping = field(default_factory=RayleighDamping)
     scenes: tuple[Scene, ...] = (Scene("modal"),)
     description: str = ""
+    defects: tuple = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))
+        if isinstance(self.defects, list):
+            object.__setattr__(self, "defects", tuple(self.defects))
         self.validate()
 
     def validate(self) -> None:
@@ -172,8 +188,10 @@ class Case:
         names = [s.name for s in self.scenes]
         if len(set(names)) != len(names):
             raise CaseError(f"scenes: scene names must be unique (got {names})")
+        validate_defects(self.gearbox, self.defects, "defects")
         for scene in self.scenes:
             scene.validate(f"scenes.{scene.name}")
+            validate_defects(self.gearbox, scene.defects, f"scenes.{scene.name}.defects")
 
     def scene(self, name: str) -> Scene:
         """The scene called ``name``."""
@@ -188,7 +206,63 @@ class Case:
         return hashlib.sha256(repr(self).encode()).hexdigest()[:16]
 
 
-def check_choice(path: str, value: str | None, choices: Iterable[str], allow_none: bool = False) -> None:
+def validate_defects(gearbox: Gearbox, defects: tuple, path: str) -> None:
+    """Check tooth defects against the gearbox; raise :class:`CaseError` naming the first bad one.
+
+    Each defect must be a :class:`ToothDefect` on a gear of the gearbox with a known
+    tooth number, with a 0-based tooth index below it, and no tooth may appear twice.
+    """
+    if not isinstance(defects, tuple):
+        raise CaseError(f"{path} must be a tuple of ToothDefect (got {type(defects).__name__})")
+    seen = set()
+    for n, defect in enumerate(defects):
+        where = f"{path}[{n}]"
+        if not isinstance(defect, ToothDefect):
+            raise CaseError(f"{where} must be a ToothDefect (got {defect!r})")
+        defect.validate(where)
+        stage = next((s for s in gearbox.stages if s.name == defect.stage), None)
+        if stage is None:
+            known = ", ".join(s.name for s in gearbox.stages)
+            raise CaseError(
+                f"{where}.gear {defect.gear!r}: no stage named {defect.stage!r} (stages: {known})"
+            )
+        try:
+            teeth = stage.gear_teeth(defect.member)
+        except KeyError:
+            gears = ", ".join(f"{stage.name}.{m}" for m in stage.member_names if m != "carrier")
+            raise CaseError(
+                f"{where}.gear {defect.gear!r} is not a gear of stage {stage.name!r} "
+                f"(gears: {gears})"
+            ) from None
+        if teeth is None:
+            member = "planet" if defect.member.startswith("planet") else defect.member
+            raise CaseError(
+                f"{where}: {stage.name}.{member}.teeth is not given, so tooth "
+                f"{defect.tooth} of {defect.gear} cannot be placed"
+            )
+        if defect.tooth >= teeth:
+            raise CaseError(
+                f"{where}.tooth {defect.tooth} does not exist on {defect.gear}: teeth "
+                f"are numbered 0 .. {teeth - 1} (0-based, {teeth} teeth)"
+            )
+        key = (defect.gear, int(defect.tooth))
+        if key in seen:
+            raise CaseError(f"{where}: tooth {defect.tooth} of {defect.gear} is listed twice")
+        seen.add(key)
+
+
+def merged_defects(case: Case, scene: Scene | None = None) -> tuple[ToothDefect, ...]:
+    """The case's defects with the scene's on top (a scene's defect replaces the case's
+    on the same tooth)."""
+    merged = {(d.gear, int(d.tooth)): d for d in case.defects}
+    if scene is not None:
+        merged.update({(d.gear, int(d.tooth)): d for d in scene.defects})
+    return tuple(merged.values())
+
+
+def check_choice(
+    path: str, value: str | None, choices: Iterable[str], allow_none: bool = False
+) -> None:
     """Raise :class:`CaseError` unless ``value`` is one of ``choices``."""
     choices = tuple(choices)
     if value is None and allow_none:
@@ -203,7 +277,9 @@ def get_parameter(case: Case, path: str) -> object:
     target: object = _resolve_root(case, parts[0], path)
     for part in parts[1:]:
         if not dataclasses.is_dataclass(target) or not hasattr(target, part):
-            raise CaseError(f"parameter {path!r}: {part!r} is not a field of {type(target).__name__}")
+            raise CaseError(
+                f"parameter {path!r}: {part!r} is not a field of {type(target).__name__}"
+            )
         target = getattr(target, part)
     return target
 
@@ -264,7 +340,9 @@ def find_case_dir(reference: str | os.PathLike) -> Path:
 def load_case(reference: str | os.PathLike) -> Case:
     """Load the ``case`` object that ``<case dir>/case.py`` defines."""
     directory = find_case_dir(reference)
-    spec = importlib.util.spec_from_file_location(f"pygear_case_{directory.name}", directory / "case.py")
+    spec = importlib.util.spec_from_file_location(
+        f"pygear_case_{directory.name}", directory / "case.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     case = getattr(module, "case", None)

@@ -10,6 +10,7 @@ before any work starts.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field, fields, is_dataclass
 
 __all__ = [
@@ -21,6 +22,7 @@ __all__ = [
     "PlanetBearing",
     "PlanetaryStage",
     "Carrier",
+    "ToothDefect",
     "validate_component",
 ]
 
@@ -169,13 +171,29 @@ class Mesh:
     contact_ratio : float
         Transverse contact ratio epsilon.
     end_to_peak : float
-        Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1].
+        Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1]
+        (the parabola of PHYSICS.md 5).
+    stiffness_curve : tuple of float or None
+        Optional tabulated single-pair law: the shape of the stiffness of one tooth
+        pair at equally spaced relative contact positions from the start (0) to the
+        end (``contact_ratio``) of contact, at least two samples, all >= 0.  Only the
+        shape counts: the curve is scaled so that the mean mesh stiffness over a mesh
+        cycle is ``stiffness``; linear interpolation between samples.  When given it
+        replaces the parabola (``end_to_peak`` is then unused).
     """
 
     stiffness: float
     pressure_angle_deg: float
     contact_ratio: float
     end_to_peak: float = 0.6
+    stiffness_curve: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.stiffness_curve is not None and not isinstance(self.stiffness_curve, tuple):
+            try:
+                object.__setattr__(self, "stiffness_curve", tuple(self.stiffness_curve))
+            except TypeError:
+                pass  # validate() names it
 
     @property
     def pressure_angle(self) -> float:
@@ -192,6 +210,18 @@ class Mesh:
         require_positive(f"{path}.contact_ratio", self.contact_ratio)
         if not _finite(self.end_to_peak) or not 0 < self.end_to_peak <= 1:
             raise CaseError(f"{path}.end_to_peak must lie in (0, 1] (got {self.end_to_peak!r})")
+        if self.stiffness_curve is not None:
+            curve = self.stiffness_curve
+            if (
+                not isinstance(curve, tuple)
+                or len(curve) < 2
+                or not all(_finite(c) and c >= 0 for c in curve)
+                or not sum(curve) > 0
+            ):
+                raise CaseError(
+                    f"{path}.stiffness_curve must be a sequence of at least two finite numbers "
+                    f">= 0, not all zero (got {curve!r})"
+                )
 
 
 @dataclass(frozen=True)
@@ -221,6 +251,11 @@ class PlanetaryStage:
         Signed base helix angle beta_b [deg]; 0 for spur gears.
     axial_position : float
         Position of the stage centre along the gearbox z axis [m].
+    mesh_phases : dict of str to float or None
+        Overrides of the mesh phases gamma in [0, 1) mesh cycles, keyed by mesh name
+        (``sun-planet1`` ... ``sun-planetN``, ``ring-planet1`` ... ``ring-planetN``);
+        the others follow Parker & Lin's phasing (:mod:`pygear.mesh_phasing`).  Stored
+        as sorted (name, phase) pairs; :attr:`phase_overrides` gives the dict.
     """
 
     name: str
@@ -238,7 +273,35 @@ class PlanetaryStage:
     planet_angles_deg: tuple[float, ...] | None = None
     base_helix_angle_deg: float = 0.0
     axial_position: float = 0.0
+    mesh_phases: dict[str, float] | None = None
     kind: str = field(default="planetary", init=False)
+
+    def __post_init__(self) -> None:
+        phases = self.mesh_phases
+        if isinstance(phases, dict):
+            try:
+                object.__setattr__(self, "mesh_phases", tuple(sorted(phases.items())))
+            except TypeError:
+                object.__setattr__(self, "mesh_phases", tuple(phases.items()))
+
+    @property
+    def phase_overrides(self) -> dict[str, float]:
+        """Phase overrides by mesh name (empty when none are given)."""
+        return dict(self.mesh_phases or ())
+
+    @property
+    def mesh_names(self) -> tuple[str, ...]:
+        """Mesh names: sun-planet1..N, then ring-planet1..N."""
+        planets = range(1, self.planets + 1)
+        return tuple(f"{gear}-planet{n}" for gear in ("sun", "ring") for n in planets)
+
+    def gear_teeth(self, member: str) -> int | None:
+        """Tooth number of ``sun``, ``ring`` or ``planet<n>``; KeyError for anything else."""
+        if member in ("sun", "ring"):
+            return getattr(self, member).teeth
+        if member in self.member_names[3:]:
+            return self.planet.teeth
+        raise KeyError(member)
 
     @property
     def planet_angles(self) -> tuple[float, ...]:
@@ -283,8 +346,18 @@ class PlanetaryStage:
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
         if not isinstance(self.planets, int) or isinstance(self.planets, bool) or self.planets < 1:
             raise CaseError(f"{path}.planets must be a whole number >= 1 (got {self.planets!r})")
-        for name in ("carrier", "ring", "sun", "planet", "carrier_bearing", "ring_bearing",
-                     "sun_bearing", "planet_bearing", "sun_mesh", "ring_mesh"):
+        for name in (
+            "carrier",
+            "ring",
+            "sun",
+            "planet",
+            "carrier_bearing",
+            "ring_bearing",
+            "sun_bearing",
+            "planet_bearing",
+            "sun_mesh",
+            "ring_mesh",
+        ):
             getattr(self, name).validate(f"{path}.{name}")
         if not _finite(self.base_helix_angle_deg) or abs(self.base_helix_angle_deg) >= 45:
             raise CaseError(
@@ -300,6 +373,7 @@ class PlanetaryStage:
             )
         self._validate_angles(path)
         self._validate_teeth(path)
+        self._validate_contact(path)
 
     def _validate_angles(self, path: str) -> None:
         if self.planet_angles_deg is not None:
@@ -317,7 +391,9 @@ class PlanetaryStage:
         module = 2 * pitch / self.planet.teeth if self.planet.teeth else 0.0
         tip_radius = pitch + module
         ordered = sorted(a % (2 * math.pi) for a in self.planet_angles)
-        gaps = [b - a for a, b in zip(ordered, ordered[1:])] + [ordered[0] + 2 * math.pi - ordered[-1]]
+        gaps = [b - a for a, b in zip(ordered, ordered[1:])] + [
+            ordered[0] + 2 * math.pi - ordered[-1]
+        ]
         smallest = min(gaps)
         centre_distance = 2 * self.carrier.radius * math.sin(smallest / 2)
         if centre_distance <= 2 * tip_radius:
@@ -339,9 +415,98 @@ class PlanetaryStage:
                 f"/{self.planets}); give planet_angles_deg or other tooth numbers"
             )
 
+    def _validate_contact(self, path: str) -> None:
+        if self.spur:
+            for name in ("sun_mesh", "ring_mesh"):
+                ratio = getattr(self, name).contact_ratio
+                if ratio <= 1:
+                    raise CaseError(
+                        f"{path}.{name}.contact_ratio must exceed 1 for a spur mesh "
+                        f"(got {ratio!r}): at most one tooth pair would be in contact, "
+                        f"with gaps of none"
+                    )
+        if self.mesh_phases is None:
+            return
+        pairs = self.mesh_phases
+        if not isinstance(pairs, tuple) or not all(
+            isinstance(p, tuple) and len(p) == 2 for p in pairs
+        ):
+            raise CaseError(
+                f"{path}.mesh_phases must be a dict of mesh name to phase (got {pairs!r})"
+            )
+        known = self.mesh_names
+        for name, phase in pairs:
+            if name not in known:
+                raise CaseError(
+                    f"{path}.mesh_phases: no mesh named {name!r} in this stage "
+                    f"(meshes: {', '.join(known)})"
+                )
+            if not _finite(phase) or not 0 <= phase < 1:
+                raise CaseError(
+                    f"{path}.mesh_phases[{name!r}] must lie in [0, 1) mesh cycles (got {phase!r})"
+                )
+
 
 def validate_component(component: object, path: str) -> None:
     """Validate any component that has a ``validate(path)`` method."""
     if not is_dataclass(component) or not hasattr(component, "validate"):
         raise CaseError(f"{path} is not a pygear component (got {type(component).__name__})")
     component.validate(path)
+
+
+@dataclass(frozen=True)
+class ToothDefect:
+    """A weakened or missing tooth, given in a case or a scene.
+
+    Parameters
+    ----------
+    gear : str
+        The gear as ``<stage>.<member>``: ``planetary.sun``, ``planetary.ring`` or
+        ``planetary.planet2`` (planets numbered from 1, as in the DOF labels).  A planet
+        tooth meets the sun and the ring, so its defect acts in both of its meshes.
+    tooth : int
+        0-based tooth index, 0 .. Z - 1.  Teeth are numbered in the order in which
+        they come into mesh (against the gear's rotation relative to the carrier in
+        the running direction).  Tooth 0 is the one in the newest tooth pair at the
+        reference state (all rotations zero): of sun-planet1 for the sun, of
+        ring-planet1 for the ring, and of sun-planet<n> for planet n
+        (:mod:`pygear.mesh_phasing` gives the derivation).
+    factor : float
+        Stiffness factor of the tooth in [0, 1]: 1 healthy, below 1 a crack or
+        spall, 0 a missing tooth.  It multiplies the stiffness of every tooth pair
+        the tooth is part of.
+    """
+
+    gear: str
+    tooth: int
+    factor: float
+
+    @property
+    def stage(self) -> str:
+        """Stage part of :attr:`gear`."""
+        return self.gear.split(".", 1)[0]
+
+    @property
+    def member(self) -> str:
+        """Member part of :attr:`gear` (sun, ring, planet<n>)."""
+        return self.gear.split(".", 1)[1]
+
+    def validate(self, path: str) -> None:
+        if not isinstance(self.gear, str) or self.gear.count(".") != 1:
+            raise CaseError(
+                f"{path}.gear must name a gear as '<stage>.<member>', e.g. 'planetary.sun' "
+                f"(got {self.gear!r})"
+            )
+        if (
+            not isinstance(self.tooth, numbers.Integral)
+            or isinstance(self.tooth, bool)
+            or self.tooth < 0
+        ):
+            raise CaseError(
+                f"{path}.tooth must be a whole number >= 0 (0-based; got {self.tooth!r})"
+            )
+        if not _finite(self.factor) or not 0 <= self.factor <= 1:
+            raise CaseError(
+                f"{path}.factor must lie in [0, 1] (1 healthy, 0 missing tooth; "
+                f"got {self.factor!r})"
+            )

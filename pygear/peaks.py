@@ -23,8 +23,13 @@ __all__ = ["PEAK_COLUMNS", "find_peaks", "peak_table_text"]
 #: Columns of the table returned by :func:`find_peaks` (the first is renamed
 #: ``order`` for order spectra).
 PEAK_COLUMNS = (
-    "frequency_hz", "amplitude", "identification", "kind", "reference",
-    "relative_deviation", "near_natural_frequency",
+    "frequency_hz",
+    "amplitude",
+    "identification",
+    "kind",
+    "reference",
+    "relative_deviation",
+    "near_natural_frequency",
 )
 _KIND_PRIORITY = {"mesh harmonic": 0, "natural frequency": 1, "sideband": 2}
 _MINUS = "\u2212"
@@ -81,9 +86,11 @@ def _number_modes(frequencies: np.ndarray, classes: np.ndarray) -> list[_Referen
             if previous is None or abs(value - previous) > 1e-6 * max(abs(value), 1.0):
                 number += 1
                 previous = value
-                references.append(_Reference(
-                    f"{mode_class} {number} ({value:.1f} Hz)", float(value), "natural frequency"
-                ))
+                references.append(
+                    _Reference(
+                        f"{mode_class} {number} ({value:.1f} Hz)", float(value), "natural frequency"
+                    )
+                )
     return references
 
 
@@ -96,11 +103,14 @@ def _mesh_references(
 ) -> list[_Reference]:
     if mesh_frequency is None:
         if sideband_frequency is not None:
-            raise SignalError("sideband_frequency: needs mesh_frequency (sidebands are around "
-                              "mesh harmonics)")
+            raise SignalError(
+                "sideband_frequency: needs mesh_frequency (sidebands are around mesh harmonics)"
+            )
         return []
-    for name, value in (("mesh_frequency", mesh_frequency),
-                        ("sideband_frequency", sideband_frequency)):
+    for name, value in (
+        ("mesh_frequency", mesh_frequency),
+        ("sideband_frequency", sideband_frequency),
+    ):
         if value is not None and not (np.isfinite(value) and value > 0.0):
             raise SignalError(f"{name}: must be a finite frequency > 0, got {value!r}")
     for name, count in (("mesh_harmonics", mesh_harmonics), ("sideband_orders", sideband_orders)):
@@ -178,7 +188,9 @@ def find_peaks(
     rel_tol : float, default 0.01
         Relative tolerance of a match.
     min_frequency : float, default 0
-        Ignore peaks below this value (e.g. to skip the DC region).
+        Ignore peaks below this value.  Spectra keep their mean by default, and
+        the DC bin's window lobe (bin 1 for Hann) is then a local maximum: pass
+        a few bin widths here to skip it.
 
     Returns
     -------
@@ -210,21 +222,26 @@ def find_peaks(
         matches = _matches(value, references, rel_tol)
         best = matches[0] if matches else None
         natural = next((m[3] for m in matches if m[3].kind == "natural frequency"), None)
-        rows.append({
-            "frequency_hz": value,
-            "amplitude": float(amplitude[index]),
-            "identification": best[3].label if best else "unidentified",
-            "kind": best[3].kind if best else "unidentified",
-            "reference": best[3].value if best else np.nan,
-            "relative_deviation": best[2] if best else np.nan,
-            "near_natural_frequency": natural.label if natural and natural is not best[3] else "",
-        })
+        rows.append(
+            {
+                "frequency_hz": value,
+                "amplitude": float(amplitude[index]),
+                "identification": best[3].label if best else "unidentified",
+                "kind": best[3].kind if best else "unidentified",
+                "reference": best[3].value if best else np.nan,
+                "relative_deviation": best[2] if best else np.nan,
+                "near_natural_frequency": natural.label
+                if natural and natural is not best[3]
+                else "",
+            }
+        )
     table = pd.DataFrame(rows, columns=list(PEAK_COLUMNS))
     axis_units = spectrum[axis].attrs.get("units", "")
     if axis != "frequency":
         table = table.rename(columns={"frequency_hz": str(axis)})
-    table.attrs.update(axis=str(axis), axis_units=axis_units,
-                       amplitude_units=spectrum.attrs.get("units", ""))
+    table.attrs.update(
+        axis=str(axis), axis_units=axis_units, amplitude_units=spectrum.attrs.get("units", "")
+    )
     return table
 
 
@@ -247,11 +264,21 @@ def peak_table_text(peaks: pd.DataFrame, *, title: str | None = None) -> str:
     axis_column = "frequency_hz" if "frequency_hz" in peaks.columns else axis
     axis_units = peaks.attrs.get("axis_units", "Hz")
     amplitude_units = peaks.attrs.get("amplitude_units", "")
-    headers = ["#", f"{axis} [{axis_units}]", f"amplitude [{amplitude_units}]",
-               "identification", "near natural frequency"]
+    headers = [
+        "#",
+        f"{axis} [{axis_units}]",
+        f"amplitude [{amplitude_units}]",
+        "identification",
+        "near natural frequency",
+    ]
     body = [
-        [str(rank), f"{row[axis_column]:.2f}", f"{row['amplitude']:.4g}",
-         str(row["identification"]), str(row["near_natural_frequency"])]
+        [
+            str(rank),
+            f"{row[axis_column]:.2f}",
+            f"{row['amplitude']:.4g}",
+            str(row["identification"]),
+            str(row["near_natural_frequency"]),
+        ]
         for rank, (_, row) in enumerate(peaks.iterrows(), start=1)
     ]
     widths = [max(len(line[col]) for line in [headers, *body]) for col in range(len(headers))]
@@ -260,7 +287,7 @@ def peak_table_text(peaks: pd.DataFrame, *, title: str | None = None) -> str:
     def line(cells: list[str]) -> str:
         return "  ".join(
             cell.rjust(width) if align else cell.ljust(width)
-            for cell, width, align in zip(cells, widths, right)
+            for cell, width, align in zip(cells, widths, right, strict=True)
         ).rstrip()
 
     lines = [title] if title else []

@@ -15,6 +15,7 @@ re-exported here as :func:`find_peaks` and :func:`peak_table_text`.
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 from collections import OrderedDict
@@ -37,12 +38,9 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "export_wisdom",
-    "find_peaks",
     "import_wisdom",
     "order_spectrum",
-    "peak_table_text",
     "plan_cache_info",
-    "spectra",
 ]
 
 #: Default number of FFTW threads (``threads=None`` uses it; set it to change).
@@ -211,7 +209,10 @@ def _prepare(signal: Any, after: float | None, name: str = "signal") -> _Record:
     if not isinstance(signal, xr.DataArray):
         raise SignalError(f"{name}: must be an xarray.DataArray, got {type(signal).__name__}")
     if "time" not in signal.dims or "time" not in signal.coords:
-        raise SignalError(f"{name}: needs a 'time' dimension with a coordinate in seconds")
+        raise SignalError(
+            f"time: {name} needs a 'time' dimension with a coordinate in seconds "
+            f"(it has dimensions {tuple(signal.dims)} and coordinates {tuple(signal.coords)})"
+        )
     if "units" not in signal.attrs:
         raise SignalError(f"{name}: needs a 'units' attribute (e.g. 'm/s^2')")
     if not np.issubdtype(signal.dtype, np.number) or np.iscomplexobj(signal):
@@ -221,7 +222,7 @@ def _prepare(signal: Any, after: float | None, name: str = "signal") -> _Record:
         raise SignalError(f"time: coordinate must be numeric seconds, got dtype {time.dtype}")
     time = time.astype(float)
     if after is not None:
-        if not np.isfinite(after):
+        if not isinstance(after, (int, float, np.number)) or not np.isfinite(after):
             raise SignalError(f"after: must be a finite time in seconds, got {after!r}")
         kept = np.flatnonzero(time >= after)
         signal = signal.isel(time=kept)
@@ -254,19 +255,29 @@ def _prepare(signal: Any, after: float | None, name: str = "signal") -> _Record:
 
 
 def _window(window: str | None, length: int) -> np.ndarray:
-    """Periodic (DFT-even) window of ``length`` samples."""
+    """Periodic (DFT-even) window of ``length`` samples (read-only, cached)."""
     if window is None or (isinstance(window, str) and window.lower() in _RECTANGULAR):
-        return np.ones(length)
+        return _window_values("boxcar", length)
     if not isinstance(window, str):
         raise SignalError(f"window: must be a window name such as 'hann', got {window!r}")
-    if window.lower() in ("hann", "hanning"):
-        return 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(length) / length)
-    from scipy.signal import get_window
-
     try:
-        return np.asarray(get_window(window, length, fftbins=True), dtype=float)
+        return _window_values(window.lower(), length)
     except ValueError as error:
         raise SignalError(f"window: unknown window {window!r} ({error})") from None
+
+
+@functools.lru_cache(maxsize=4)
+def _window_values(name: str, length: int) -> np.ndarray:
+    if name == "boxcar":
+        values = np.ones(length)
+    elif name in ("hann", "hanning"):
+        values = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(length) / length)
+    else:
+        from scipy.signal import get_window
+
+        values = np.asarray(get_window(name, length, fftbins=True), dtype=float)
+    values.flags.writeable = False
+    return values
 
 
 def _check_band(band: Sequence[float], sample_rate: float, length: int) -> tuple[float, float]:
@@ -337,7 +348,9 @@ def _frequency_result(
 ) -> xr.DataArray:
     frequency = np.arange(values.shape[-1]) * (record.sample_rate / record.length)
     axis_attrs = {"units": "Hz", "long_name": "frequency"}
-    return _axis_result(record, values, "frequency", frequency, axis_attrs, name, long_name, **attrs)
+    return _axis_result(
+        record, values, "frequency", frequency, axis_attrs, name, long_name, **attrs
+    )
 
 
 def _one_sided_amplitude(
@@ -402,8 +415,12 @@ def amplitude_spectrum(
     rows = record.rows - record.rows.mean(axis=1, keepdims=True) if remove_mean else record.rows
     values = _one_sided_amplitude(rows, window, threads, effort)
     return _frequency_result(
-        record, values, "amplitude", f"amplitude spectrum of {_describe(record.signal)}",
-        window=str(window), remove_mean=int(remove_mean),
+        record,
+        values,
+        "amplitude",
+        f"amplitude spectrum of {_describe(record.signal)}",
+        window=str(window),
+        remove_mean=int(remove_mean),
     )
 
 
@@ -439,8 +456,9 @@ def envelope(
     values = _envelope_rows(record.rows, None, threads, effort)
     result = record.signal.copy(data=values.reshape(record.signal.shape))
     result.name = "envelope"
-    result.attrs = {"units": signal.attrs["units"],
-                    "long_name": f"envelope of {_describe(signal)}"}
+    result["time"].attrs.setdefault("units", "s")
+    result["time"].attrs.setdefault("long_name", "time")
+    result.attrs = {"units": signal.attrs["units"], "long_name": f"envelope of {_describe(signal)}"}
     return result.transpose(*record.order)
 
 
@@ -471,16 +489,7 @@ def envelope_spectrum(
     xarray.DataArray
         Amplitude in the signal's units along ``frequency`` [Hz].
     """
-    threads, effort = _fft_options(threads, planner_effort)
-    record = _prepare(signal, after)
-    _window(window, MIN_SAMPLES)
-    values = _envelope_rows(record.rows, None, threads, effort)
-    values -= values.mean(axis=1, keepdims=True)
-    spectrum = _one_sided_amplitude(values, window, threads, effort)
-    return _frequency_result(
-        record, spectrum, "envelope_amplitude",
-        f"envelope spectrum of {_describe(record.signal)}", window=str(window),
-    )
+    return _demodulated(signal, None, after, window, threads, planner_effort)
 
 
 def demodulated_resonance(
@@ -514,48 +523,38 @@ def demodulated_resonance(
         Amplitude in the signal's units along ``frequency`` [Hz], with
         attributes ``band_lower`` and ``band_upper`` [Hz].
     """
+    return _demodulated(signal, band, after, window, threads, planner_effort)
+
+
+def _demodulated(
+    signal: xr.DataArray,
+    band: Sequence[float] | None,
+    after: float | None,
+    window: str | None,
+    threads: int | None,
+    planner_effort: str | None,
+) -> xr.DataArray:
+    """Envelope spectrum, of the whole signal or (DRA) of one band of it."""
     threads, effort = _fft_options(threads, planner_effort)
     record = _prepare(signal, after)
-    lower, upper = _check_band(band, record.sample_rate, record.length)
+    keep, attrs = None, {"window": str(window)}
+    long_name = f"envelope spectrum of {_describe(record.signal)}"
+    if band is not None:
+        lower, upper = _check_band(band, record.sample_rate, record.length)
+        resolution = record.sample_rate / record.length
+        keep = slice(
+            math.ceil(lower / resolution - 1e-9), math.floor(upper / resolution + 1e-9) + 1
+        )
+        attrs.update(band_lower=lower, band_upper=upper)
+        long_name = (
+            f"demodulated resonance spectrum ({lower:g}-{upper:g} Hz) of {_describe(record.signal)}"
+        )
     _window(window, MIN_SAMPLES)
-    resolution = record.sample_rate / record.length
-    keep = slice(math.ceil(lower / resolution - 1e-9), math.floor(upper / resolution + 1e-9) + 1)
     values = _envelope_rows(record.rows, keep, threads, effort)
     values -= values.mean(axis=1, keepdims=True)
     spectrum = _one_sided_amplitude(values, window, threads, effort)
-    return _frequency_result(
-        record, spectrum, "dra_amplitude",
-        f"demodulated resonance spectrum ({lower:g}-{upper:g} Hz) of {_describe(record.signal)}",
-        band_lower=lower, band_upper=upper, window=str(window),
-    )
-
-
-def spectra(
-    signal: xr.DataArray,
-    *,
-    after: float | None = 1.0,
-    band: Sequence[float] = (5000.0, 10000.0),
-    window: str | None = "hann",
-    threads: int | None = None,
-    planner_effort: str | None = None,
-) -> xr.Dataset:
-    """The three analyses of PHYSICS.md section 8 in one Dataset.
-
-    Returns
-    -------
-    xarray.Dataset
-        Variables ``spectrum``, ``envelope_spectrum`` and ``dra`` on one
-        ``frequency`` coordinate [Hz].
-    """
-    options = {"after": after, "window": window, "threads": threads,
-               "planner_effort": planner_effort}
-    record = _prepare(signal, after)
-    _check_band(band, record.sample_rate, record.length)
-    return xr.Dataset({
-        "spectrum": amplitude_spectrum(signal, **options),
-        "envelope_spectrum": envelope_spectrum(signal, **options),
-        "dra": demodulated_resonance(signal, band, **options),
-    })
+    name = "envelope_amplitude" if band is None else "dra_amplitude"
+    return _frequency_result(record, spectrum, name, long_name, **attrs)
 
 
 def order_spectrum(
@@ -605,12 +604,16 @@ def order_spectrum(
         raise SignalError(f"interpolation: must be 'cubic' or 'linear', got {interpolation!r}")
     speed = _speed_at(speed_rpm, full_time, record.time)
     revolutions = np.concatenate(
-        ([0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(record.time)) / 60.0))
+        ([0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(record.time)) / 60.0)
+    )
     total = float(revolutions[-1])
     if samples_per_rev is None:
         samples_per_rev = max(2, math.ceil(record.length / total))
-    if isinstance(samples_per_rev, bool) or not isinstance(samples_per_rev, (int, np.integer)) \
-            or samples_per_rev < 2:
+    if (
+        isinstance(samples_per_rev, bool)
+        or not isinstance(samples_per_rev, (int, np.integer))
+        or samples_per_rev < 2
+    ):
         raise SignalError(f"samples_per_rev: must be an integer >= 2, got {samples_per_rev!r}")
     count = math.floor(total * samples_per_rev + 1e-9)
     if count < MIN_SAMPLES:
@@ -629,9 +632,16 @@ def order_spectrum(
     orders = np.arange(values.shape[-1]) * (samples_per_rev / count)
     axis_attrs = {"units": "1", "long_name": "order (events per revolution of the reference shaft)"}
     return _axis_result(
-        record, values, "order", orders, axis_attrs, "order_amplitude",
+        record,
+        values,
+        "order",
+        orders,
+        axis_attrs,
+        "order_amplitude",
         f"order spectrum of {_describe(record.signal)}",
-        samples_per_rev=int(samples_per_rev), revolutions=total, window=str(window),
+        samples_per_rev=int(samples_per_rev),
+        revolutions=total,
+        window=str(window),
     )
 
 

@@ -7,6 +7,8 @@ from the construction of the test signal, never from pygear's own output.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 import scipy.signal
@@ -58,7 +60,7 @@ def test_sine_at_bin_centre_reads_its_amplitude_and_frequency() -> None:
     assert spectrum.sizes["frequency"] == 4096 // 2 + 1  # one second kept: 1 Hz bins
     assert float(spectrum.frequency[1]) == pytest.approx(1.0, rel=1e-12)
     tone = spectrum.where(spectrum.frequency > 10.0, 0.0)
-    peak = tone.argmax().item()
+    peak = int(np.argmax(tone.values))
     assert float(spectrum.frequency[peak]) == pytest.approx(frequency, rel=1e-6)
     assert float(spectrum[peak]) == pytest.approx(amplitude, rel=1e-6)
     # the mean is not removed by default: the DC bin reads it
@@ -70,8 +72,10 @@ def test_sine_at_bin_centre_reads_its_amplitude_and_frequency() -> None:
 def test_amplitude_modulated_carrier_sidebands_and_envelope_line() -> None:
     sample_rate, carrier, modulation, amplitude, depth = 8192.0, 1000.0, 50.0, 2.0, 0.4
     time = np.arange(8192) / sample_rate
-    values = (1 + depth * np.cos(2 * np.pi * modulation * time)) * amplitude * np.cos(
-        2 * np.pi * carrier * time
+    values = (
+        (1 + depth * np.cos(2 * np.pi * modulation * time))
+        * amplitude
+        * np.cos(2 * np.pi * carrier * time)
     )
     signal = make_signal(values, sample_rate)
 
@@ -94,8 +98,10 @@ def test_dra_recovers_modulation_hidden_in_raw_spectrum() -> None:
     rng = np.random.default_rng(20240611)
     time = np.arange(2 * 32768) / sample_rate
     strong_tones = 20.0 * np.sin(2 * np.pi * 50.0 * time) + 8.0 * np.sin(2 * np.pi * 120.0 * time)
-    resonance = 0.5 * (1 + 0.5 * np.cos(2 * np.pi * mesh_frequency * time)) * np.cos(
-        2 * np.pi * 7000.0 * time
+    resonance = (
+        0.5
+        * (1 + 0.5 * np.cos(2 * np.pi * mesh_frequency * time))
+        * np.cos(2 * np.pi * 7000.0 * time)
     )
     noise = 0.3 * rng.standard_normal(time.size)
     signal = make_signal(strong_tones + resonance + noise, sample_rate)
@@ -108,7 +114,7 @@ def test_dra_recovers_modulation_hidden_in_raw_spectrum() -> None:
 
     dra = ps.demodulated_resonance(signal, (5000.0, 10000.0), after=1.0)
     resolution = float(dra.frequency[1] - dra.frequency[0])
-    strongest = float(dra.frequency[dra.isel(frequency=slice(1, None)).argmax().item() + 1])
+    strongest = float(dra.frequency[np.argmax(dra.values[1:]) + 1])
     assert abs(strongest - mesh_frequency) <= resolution
     assert value_at(dra, mesh_frequency) > 20.0 * float(np.median(dra))
     assert dra.attrs["band_lower"] == 5000.0 and dra.attrs["band_upper"] == 10000.0
@@ -131,9 +137,8 @@ def test_agrees_with_numpy_and_scipy(length: int) -> None:
     assert_close(ps.envelope(signal).values, np.abs(scipy.signal.hilbert(values)), 1e-10)
 
     envelope = np.abs(scipy.signal.hilbert(values))
-    assert_close(
-        ps.envelope_spectrum(signal).values, numpy_amplitude(envelope - envelope.mean(), hann), 1e-10
-    )
+    expected = numpy_amplitude(envelope - envelope.mean(), hann)
+    assert_close(ps.envelope_spectrum(signal).values, expected, 1e-10)
 
     lower, upper = 300.0, 700.0
     frequency = np.fft.fftfreq(length, 1.0 / sample_rate)
@@ -168,9 +173,18 @@ def test_multichannel_and_metadata() -> None:
     assert spectrum.dims == ("frequency", "channel")
     assert float(spectrum.sel(channel="ring", frequency=100.0)) == pytest.approx(1.0, rel=1e-9)
     assert float(spectrum.sel(channel="sun", frequency=200.0)) == pytest.approx(3.0, rel=1e-9)
-    assert ps.envelope(signal).dims == ("time", "channel")
+    envelope = ps.envelope(signal)
+    assert envelope.dims == ("time", "channel")
+    assert envelope["time"].attrs == {"units": "s", "long_name": "time"}
+    assert signal["time"].attrs == {"units": "s"}  # the input is left alone
 
-    dataset = ps.spectra(signal, after=None, band=(300.0, 400.0))
+    dataset = xr.Dataset(
+        {
+            "spectrum": spectrum,
+            "envelope_spectrum": ps.envelope_spectrum(signal),
+            "dra": ps.demodulated_resonance(signal, (300.0, 400.0)),
+        }
+    )
     for variable in [*dataset.data_vars.values(), *dataset.coords.values()]:
         assert "units" in variable.attrs and "long_name" in variable.attrs, variable.name
     assert dataset["frequency"].attrs["units"] == "Hz"
@@ -188,13 +202,15 @@ def test_order_spectrum_of_runup_chirp_shows_its_order() -> None:
     revolutions = (start_rpm * time + 0.5 * ramp_rpm_per_s * time**2) / 60.0  # 40 at the end
     signal = make_signal(1.5 * np.cos(2 * np.pi * order * revolutions), sample_rate)
 
-    speed = xr.DataArray(speed_rpm, dims="time", coords={"time": signal.time},
-                         attrs={"units": "rpm"})
+    speed = xr.DataArray(
+        speed_rpm, dims="time", coords={"time": signal.time}, attrs={"units": "rpm"}
+    )
     for reference in (speed, speed_rpm):
         spectrum = ps.order_spectrum(signal, reference, samples_per_rev=64)
         assert spectrum.dims == ("order",)
+        assert spectrum.attrs["revolutions"] == pytest.approx(40.0, rel=1e-9)
         assert float(spectrum.order[1]) == pytest.approx(1.0 / 40.0, rel=1e-9)
-        strongest = float(spectrum.order[spectrum.argmax().item()])
+        strongest = float(spectrum.order[np.argmax(spectrum.values)])
         assert strongest == pytest.approx(order, rel=1e-9)
         assert float(spectrum.max()) == pytest.approx(1.5, rel=1e-3)
 
@@ -248,16 +264,27 @@ def test_peaks_from_modal_dataset_and_ordering() -> None:
     modes = xr.Dataset(
         {
             "frequency": ("mode", [0.0, 743.2, 743.2, 1334.0, 1102.7, 1102.7]),
-            "mode_class": ("mode", ["rotational", "translational", "translational",
-                                    "rotational", "translational", "translational"]),
+            "mode_class": (
+                "mode",
+                [
+                    "rotational",
+                    "translational",
+                    "translational",
+                    "rotational",
+                    "translational",
+                    "translational",
+                ],
+            ),
         }
     )
     time = np.arange(8192) / 8192.0
     values = 2.0 * np.cos(2 * np.pi * 1102.0 * time) + np.cos(2 * np.pi * 1334.0 * time)
-    peaks = find_peaks(ps.amplitude_spectrum(make_signal(values, 8192.0)), 2,
-                       natural_frequencies=modes)
+    peaks = find_peaks(
+        ps.amplitude_spectrum(make_signal(values, 8192.0)), 2, natural_frequencies=modes
+    )
     assert list(peaks["identification"]) == [
-        "translational 2 (1102.7 Hz)", "rotational 2 (1334.0 Hz)"
+        "translational 2 (1102.7 Hz)",
+        "rotational 2 (1334.0 Hz)",
     ]
     assert list(peaks["amplitude"]) == pytest.approx([2.0, 1.0], rel=1e-9)
 
@@ -288,38 +315,48 @@ BAD_INPUTS = {
     "band reversed": (lambda: ps.demodulated_resonance(good_signal(), (8000, 6000)), "band"),
     "band too narrow": (lambda: ps.demodulated_resonance(good_signal(), (5000, 5001)), "band"),
     "band not a pair": (lambda: ps.demodulated_resonance(good_signal(), (5000,)), "band"),
-    "after leaves few samples": (lambda: ps.amplitude_spectrum(good_signal(), after=0.9997),
-                                 "after"),
+    "after leaves few samples": (
+        lambda: ps.amplitude_spectrum(good_signal(), after=0.9997),
+        "after",
+    ),
     "record too short": (lambda: ps.envelope(make_signal(np.ones(10), 100.0)), "signal"),
     "uneven time": (lambda: ps.amplitude_spectrum(uneven_time(good_signal())), "time"),
     "NaN": (lambda: ps.envelope_spectrum(with_values(good_signal(), 7, np.nan)), "signal"),
     "inf": (lambda: ps.amplitude_spectrum(with_values(good_signal(), 7, np.inf)), "signal"),
-    "no time coordinate": (lambda: ps.amplitude_spectrum(good_signal().drop_vars("time")),
-                           "time"),
+    "no time coordinate": (lambda: ps.amplitude_spectrum(good_signal().drop_vars("time")), "time"),
     "no time dimension": (lambda: ps.amplitude_spectrum(good_signal().rename(time="t")), "time"),
-    "no units": (lambda: ps.amplitude_spectrum(good_signal().drop_attrs()), "units"),
+    "no units": (
+        lambda: ps.amplitude_spectrum(good_signal().drop_attrs()),
+        "signal: needs a 'units'",
+    ),
     "not a DataArray": (lambda: ps.amplitude_spectrum(np.ones(100)), "signal"),
     "threads": (lambda: ps.amplitude_spectrum(good_signal(), threads=0), "threads"),
-    "planner effort": (lambda: ps.envelope(good_signal(), planner_effort="FAST"),
-                       "planner_effort"),
+    "planner effort": (lambda: ps.envelope(good_signal(), planner_effort="FAST"), "planner_effort"),
     "window": (lambda: ps.amplitude_spectrum(good_signal(), window="no-such-window"), "window"),
     "speed": (lambda: ps.order_spectrum(good_signal(), -100.0), "speed_rpm"),
     "speed length": (lambda: ps.order_spectrum(good_signal(), np.ones(5)), "speed_rpm"),
-    "samples per rev": (lambda: ps.order_spectrum(good_signal(), 60.0, samples_per_rev=4),
-                        "samples_per_rev"),
+    "samples per rev": (
+        lambda: ps.order_spectrum(good_signal(), 60.0, samples_per_rev=4),
+        "samples_per_rev",
+    ),
     "peak count": (lambda: find_peaks(tone_spectrum(100.0), 0), "n"),
     "peak tolerance": (lambda: find_peaks(tone_spectrum(100.0), rel_tol=0.0), "rel_tol"),
-    "mesh frequency": (lambda: find_peaks(tone_spectrum(100.0), mesh_frequency=-1.0),
-                       "mesh_frequency"),
-    "natural frequencies": (lambda: find_peaks(tone_spectrum(100.0), natural_frequencies=[1.0]),
-                            "natural_frequencies"),
+    "mesh frequency": (
+        lambda: find_peaks(tone_spectrum(100.0), mesh_frequency=-1.0),
+        "mesh_frequency",
+    ),
+    "natural frequencies": (
+        lambda: find_peaks(tone_spectrum(100.0), natural_frequencies=[1.0]),
+        "natural_frequencies",
+    ),
 }
 
 
 @pytest.mark.parametrize("case", list(BAD_INPUTS), ids=list(BAD_INPUTS))
 def test_bad_input_raises_naming_the_parameter(case: str) -> None:
-    call, parameter = BAD_INPUTS[case]
-    with pytest.raises(ps.SignalError, match=rf"^{parameter}:"):
+    call, expected = BAD_INPUTS[case]
+    start = expected if ":" in expected else f"{expected}:"  # message starts with the parameter
+    with pytest.raises(ps.SignalError, match=f"^{re.escape(start)}"):
         call()
 
 

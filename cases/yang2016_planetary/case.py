@@ -30,22 +30,36 @@ RING_BASE_RADIUS = 137.5e-3  # m, Table 1
 stage = PlanetaryStage(
     name="planetary",
     carrier=Carrier(mass=5.43, polar_inertia=59.1e-3, tilt_inertia=59.1e-3 / 2, radius=96.9e-3),
-    ring=Gear(mass=2.35, polar_inertia=56.7e-3, tilt_inertia=56.7e-3 / 2,
-              base_radius=RING_BASE_RADIUS, teeth=96),
-    sun=Gear(mass=0.4, polar_inertia=0.58e-3, tilt_inertia=0.58e-3 / 2,
-             base_radius=38.7e-3, teeth=27),
-    planet=Gear(mass=0.66, polar_inertia=1.53e-3, tilt_inertia=1.53e-3 / 2,
-                base_radius=50.2e-3, teeth=35),
+    ring=Gear(
+        mass=2.35,
+        polar_inertia=56.7e-3,
+        tilt_inertia=56.7e-3 / 2,
+        base_radius=RING_BASE_RADIUS,
+        teeth=96,
+    ),
+    sun=Gear(
+        mass=0.4, polar_inertia=0.58e-3, tilt_inertia=0.58e-3 / 2, base_radius=38.7e-3, teeth=27
+    ),
+    planet=Gear(
+        mass=0.66, polar_inertia=1.53e-3, tilt_inertia=1.53e-3 / 2, base_radius=50.2e-3, teeth=35
+    ),
     planets=3,
-    carrier_bearing=Bearing(radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS,
-                            tilt=TILT_STIFFNESS, torsional=0.0),  # carrier turns freely
+    carrier_bearing=Bearing(
+        radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS, tilt=TILT_STIFFNESS, torsional=0.0
+    ),  # carrier turns freely
     # ring held by a torsional spring of 1e9 N/m at its base radius (Table 1)
-    ring_bearing=Bearing(radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS,
-                         tilt=TILT_STIFFNESS, torsional=1e9 * RING_BASE_RADIUS**2),
-    sun_bearing=Bearing(radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS,
-                        tilt=TILT_STIFFNESS, torsional=0.0),  # sun turns freely
-    planet_bearing=PlanetBearing(radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS,
-                                 tilt=TILT_STIFFNESS),
+    ring_bearing=Bearing(
+        radial=BEARING_STIFFNESS,
+        axial=AXIAL_STIFFNESS,
+        tilt=TILT_STIFFNESS,
+        torsional=1e9 * RING_BASE_RADIUS**2,
+    ),
+    sun_bearing=Bearing(
+        radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS, tilt=TILT_STIFFNESS, torsional=0.0
+    ),  # sun turns freely
+    planet_bearing=PlanetBearing(
+        radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS, tilt=TILT_STIFFNESS
+    ),
     # mean mesh stiffness 5e8 N/m, pressure angle 24.6 deg, contact ratio 1.24 (Table 1);
     # end-to-peak ratio ASSUMED 0.6 external / 0.7 internal (PHYSICS.md 5)
     sun_mesh=Mesh(stiffness=5e8, pressure_angle_deg=24.6, contact_ratio=1.24, end_to_peak=0.6),

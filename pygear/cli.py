@@ -1,0 +1,303 @@
+"""The ``pygear`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .assembly import assemble
+from .case import DOF_SETS, FORMULATIONS, Case, Scene, load_case
+from .components import CaseError
+from .io import write_netcdf
+from .kernel import KernelError
+from .modal import modal_analysis
+from .progress import ProgressBar
+
+__all__ = ["main"]
+
+
+def _add_model_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    parser.add_argument(
+        "--formulation",
+        choices=FORMULATIONS,
+        help="model formulation (default: the scene's, else the case's)",
+    )
+    parser.add_argument(
+        "--dof-set",
+        choices=DOF_SETS,
+        help="DOF set (default: the scene's, else the smallest exact one)",
+    )
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every subcommand."""
+    parser = argparse.ArgumentParser(prog="pygear", description=__doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    run = commands.add_parser("run", help="run a case's scenes and write results and figures")
+    run.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    run.add_argument("--scene", action="append", help="scene to run (repeatable; default: all)")
+    run.add_argument("--formulation", choices=FORMULATIONS, help="override every scene's")
+    run.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
+    run.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+
+    modal = commands.add_parser("modal", help="natural frequencies and mode classes")
+    _add_model_options(modal)
+    modal.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    modal.add_argument("--out", type=Path, help="also write modal.nc and figures to this directory")
+
+    matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
+    _add_model_options(matrices)
+    matrices.add_argument("--out", type=Path, required=True, help="target .npz file")
+
+    sensitivity = commands.add_parser(
+        "sensitivity", help="natural frequencies against a stiffness parameter (paper Fig. 7)"
+    )
+    sensitivity.add_argument("case", metavar="CASE", help="case directory or case name")
+    sensitivity.add_argument(
+        "--parameter",
+        required=True,
+        help="stiffness parameter path, e.g. planetary.sun_mesh.stiffness",
+    )
+    sensitivity.add_argument(
+        "--values",
+        nargs="+",
+        required=True,
+        help="values: numbers, linspace(a,b,n) or logspace(a,b,n)",
+    )
+    sensitivity.add_argument(
+        "--formulation",
+        nargs="+",
+        choices=FORMULATIONS,
+        help="one or more formulations (default: the case's)",
+    )
+    sensitivity.add_argument("--dof-set", choices=DOF_SETS)
+    sensitivity.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
+    sensitivity.add_argument("--json", action="store_true", help="print one JSON object")
+    mesh = commands.add_parser(
+        "mesh-stiffness", help="time-varying mesh stiffness at constant carrier speed (Fig. 3)"
+    )
+    mesh.add_argument("case", metavar="CASE", help="case directory or case name")
+    mesh.add_argument("--speed", type=float, default=120.0, help="carrier speed [rpm]")
+    mesh.add_argument("--duration", type=float, help="length [s] (default: 5 mesh cycles)")
+    mesh.add_argument("--out", type=Path, required=True, help="target .nc file (figure beside)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit code (2 for bad input)."""
+    args = build_parser().parse_args(argv)
+    handler = {
+        "run": _run,
+        "modal": _modal,
+        "matrices": _matrices,
+        "sensitivity": _sensitivity,
+        "mesh-stiffness": _mesh_stiffness,
+    }[args.command]
+    try:
+        return handler(args)
+    except (CaseError, KernelError) as error:
+        print(f"pygear {args.command}: error: {error}", file=sys.stderr)
+        return 2
+
+
+def _modal_summary(modal) -> dict:
+    return {
+        "case": modal.attrs["case"],
+        "formulation": modal.attrs["formulation"],
+        "dof_set": modal.attrs["dof_set"],
+        "frequencies_hz": [float(f) for f in modal.frequency.values],
+        "mode_class": [str(c) for c in modal.mode_class.values],
+        "class_index": [int(i) for i in modal.class_index.values],
+        "multiplicity": [int(m) for m in modal.multiplicity.values],
+    }
+
+
+def _print_modal_table(modal) -> None:
+    print(
+        f"{modal.attrs['case']}: {modal.attrs['formulation']} formulation, "
+        f"{modal.attrs['dof_set']} DOF set ({modal.attrs['dof_set_reason']}), "
+        f"{modal.sizes['mode']} modes"
+    )
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'class':<22} {'x':>2}")
+    for m, f, c, i, r in zip(
+        modal.mode.values,
+        modal.frequency.values,
+        modal.mode_class.values,
+        modal.class_index.values,
+        modal.multiplicity.values,
+    ):
+        print(f"{m:>4}  {f:>14.1f}  {c + ' ' + str(i):<22} {r:>2}")
+
+
+def write_modal_outputs(
+    case: Case, scene: Scene | None, model, modal, directory: Path, stem: str
+) -> list[Path]:
+    """Write ``<stem>.nc`` and the modal figures into ``directory``."""
+    from .plots import plot_modal_energy, plot_mode_shape
+
+    directory.mkdir(parents=True, exist_ok=True)
+    written = [
+        write_netcdf(
+            modal,
+            directory / f"{stem}.nc",
+            input_hash=case.input_hash(),
+            title=f"Modal analysis of {case.name} ({model.formulation})",
+        )
+    ]
+    energy = directory / f"{stem}_energy.png"
+    plot_modal_energy(modal, energy)
+    written.append(energy)
+    rotational = [
+        m
+        for m, (c, i) in enumerate(zip(modal.mode_class.values, modal.class_index.values))
+        if c == "rotational" and i == 2
+    ]
+    if rotational and case.gearbox.stages[0].kind == "planetary":
+        shape = directory / f"{stem}_mode_shape.png"
+        plot_mode_shape(case, model, modal, rotational[0], shape)
+        written.append(shape)
+    return written
+
+
+def _modal(args: argparse.Namespace) -> int:
+    case = load_case(args.case)
+    started = time.perf_counter()
+    model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
+    modal = modal_analysis(model)
+    elapsed = time.perf_counter() - started
+    if args.out:
+        write_modal_outputs(case, None, model, modal, args.out, f"modal_{model.formulation}")
+    if args.json:
+        print(json.dumps({**_modal_summary(modal), "wall_s": elapsed}))
+    else:
+        _print_modal_table(modal)
+        print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
+    return 0
+
+
+def _matrices(args: argparse.Namespace) -> int:
+    case = load_case(args.case)
+    model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(
+        args.out,
+        M=model.mass,
+        K=model.stiffness,
+        C=model.damping,
+        dof_labels=np.array(model.dof_labels),
+        formulation=model.formulation,
+        dof_set=model.dof_set,
+    )
+    print(
+        f"wrote {args.out}: {model.size} DOFs ({model.formulation}, {model.dof_set})",
+        file=sys.stderr,
+    )
+    return 0
+
+
+def _sensitivity(args: argparse.Namespace) -> int:
+    from .plots import plot_frequency_sweep
+    from .sensitivity import frequency_sweep, parse_values
+
+    case = load_case(args.case)
+    values = parse_values(args.values)
+    sweep = frequency_sweep(
+        case,
+        args.parameter,
+        values,
+        formulations=args.formulation,
+        dof_set=args.dof_set,
+        progress=ProgressBar("sensitivity", enabled=not args.json),
+    )
+    out = args.out or Path("out") / case.name
+    stem = f"sensitivity_{args.parameter.replace('.', '_')}"
+    path = write_netcdf(
+        sweep,
+        out / f"{stem}.nc",
+        input_hash=case.input_hash(),
+        title=f"Natural frequencies of {case.name} against {args.parameter}",
+    )
+    figure = out / f"{stem}.png"
+    plot_frequency_sweep(sweep, figure)
+    if args.json:
+        print(
+            json.dumps(
+                {
+                    "parameter": args.parameter,
+                    "values": values.tolist(),
+                    "formulations": [str(f) for f in sweep.formulation.values],
+                    "frequencies_hz": np.nan_to_num(sweep.frequency.values).tolist(),
+                    "files": [str(path), str(figure)],
+                }
+            )
+        )
+    else:
+        print(f"wrote {path} and {figure}")
+    return 0
+
+
+def _mesh_stiffness(args: argparse.Namespace) -> int:
+    from .contact import write_mesh_stiffness
+
+    if not np.isfinite(args.speed) or args.speed == 0:
+        raise CaseError(
+            f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"
+        )
+    if args.duration is not None and not (np.isfinite(args.duration) and args.duration > 0):
+        raise CaseError(f"--duration must be a positive number of seconds (got {args.duration})")
+    dataset = write_mesh_stiffness(args.case, args.speed, args.duration, args.out)
+    print(
+        f"wrote {args.out} and {args.out.with_suffix('.png')}: "
+        f"{dataset.sizes['mesh']} meshes, {dataset.sizes['time']} samples"
+    )
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    case = load_case(args.case)
+    scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
+    out = args.out or Path("out") / case.name
+    summary = {"case": case.name, "scenes": {}}
+    for scene in scenes:
+        started = time.perf_counter()
+        model = assemble(case, scene, formulation=args.formulation)
+        entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
+        if "modal" in scene.analyses:
+            modal = modal_analysis(model)
+            files = write_modal_outputs(case, scene, model, modal, out, scene.name)
+            entry.update(_modal_summary(modal))
+            entry["files"] += [str(p) for p in files]
+        if "sensitivity" in scene.analyses:
+            from .sensitivity import frequency_sensitivity
+
+            sensitivity = frequency_sensitivity(model)
+            path = write_netcdf(
+                sensitivity,
+                out / f"{scene.name}_sensitivity.nc",
+                input_hash=case.input_hash(),
+                title=f"Frequency sensitivities of {case.name}",
+            )
+            entry["files"].append(str(path))
+        entry["wall_s"] = time.perf_counter() - started
+        summary["scenes"][scene.name] = entry
+        if not args.json:
+            print(
+                f"scene {scene.name}: {model.formulation}, {model.dof_set} "
+                f"({model.size} DOFs), {entry['wall_s'] * 1e3:.0f} ms"
+            )
+            for path in entry["files"]:
+                print(f"  wrote {path}")
+    if args.json:
+        print(json.dumps(summary))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,549 @@
+"""Tooth-contact table: time-varying mesh stiffness with phasing and tooth defects.
+
+:func:`build_contact_table` turns a case (meshes, phasing, single-pair laws,
+defects) into the flat arrays of the Fortran module ``contact_table``, which
+evaluates every mesh at a state (PHYSICS.md 5).  :func:`mesh_stiffness_at_constant_speed`
+runs it along the ideal kinematics of a constant carrier speed with the ring held,
+:func:`write_mesh_stiffness` writes that as NetCDF with a figure beside it.
+
+Each mesh's gear 1 is the central member (sun or ring) and gear 2 the planet;
+tooth numbering and phases are derived in :mod:`pygear.mesh_phasing`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import _kernel
+from .assembly import Model, assemble
+from .case import Case, Scene, load_case, merged_defects, validate_defects
+from .components import CaseError, PlanetaryStage, ToothDefect
+from .kernel import KernelError
+from .mesh_phasing import stage_phasing
+
+__all__ = [
+    "LAW_CODES",
+    "ContactLossWarning",
+    "ContactTable",
+    "build_contact_table",
+    "mesh_stiffness_at_constant_speed",
+    "write_mesh_stiffness",
+]
+
+LAW_CODES = {"parabola": 1, "tabulated": 2}
+"""Single-pair law codes of the Fortran module (a helical contact-length law would be 3)."""
+
+DEFAULT_CYCLES = 5
+"""Mesh cycles the constant-speed run covers by default (without defects)."""
+
+_ERRORS = {
+    1: "a table entry is out of range",
+    2: "an unknown single-pair law code",
+    3: "an array is too small for the contact ratio or the packed data",
+    4: "a state is not finite or lies beyond 2**50 mesh cycles",
+}
+
+
+class ContactLossWarning(UserWarning):
+    """A mesh has stretches where no tooth pair carries load (missing teeth)."""
+
+
+@dataclass(frozen=True, eq=False)
+class ContactTable:
+    """Flat arrays of the tooth-contact table, one entry (or column) per mesh.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Mesh names (``sun-planet1``; ``<stage>.sun-planet1`` with several stages).
+    gears : tuple of (str, str)
+        Gear 1 (sun or ring) and gear 2 (planet) of each mesh, as ``stage.member``.
+    angles : tuple of (str, str)
+        Members (a, b) with theta_rel = theta_z(a) - theta_z(b): (sun, carrier) for a
+        sun-planet mesh, (carrier, ring) for a ring-planet mesh.
+    teeth, tooth_offset, factor_start : ndarray of int32, shape (2, n_mesh)
+        Z1 and Z2; i0 and j0; offsets of each gear's factors in ``factor`` (-1: healthy).
+    cycle_sign, law, curve_start, curve_size : ndarray of int32, shape (n_mesh,)
+        sigma; single-pair law code; tabulated curve offset and length.
+    mean_stiffness, contact_ratio, end_to_peak, phase : ndarray of float64
+        k-bar [N/m], eps, lambda, gamma [mesh cycles].
+    curve, factor : ndarray of float64
+        Packed unit-mean curves and per-tooth factors (each padded to length >= 1).
+    max_pairs : int
+        Pairs per mesh the output arrays hold: ceil(max eps) + 1.
+    defects : tuple of ToothDefect
+        The defects the factors come from.
+    """
+
+    names: tuple[str, ...]
+    gears: tuple[tuple[str, str], ...]
+    angles: tuple[tuple[str, str], ...]
+    teeth: np.ndarray
+    cycle_sign: np.ndarray
+    tooth_offset: np.ndarray
+    mean_stiffness: np.ndarray
+    contact_ratio: np.ndarray
+    end_to_peak: np.ndarray
+    phase: np.ndarray
+    law: np.ndarray
+    curve_start: np.ndarray
+    curve_size: np.ndarray
+    curve: np.ndarray
+    factor_start: np.ndarray
+    factor: np.ndarray
+    max_pairs: int
+    defects: tuple[ToothDefect, ...] = ()
+
+    @property
+    def size(self) -> int:
+        """Number of meshes."""
+        return len(self.names)
+
+    def kernel_arguments(self) -> tuple:
+        """The table arguments of the ``contact_table_*`` kernel routines, in order."""
+        return (
+            self.teeth,
+            self.cycle_sign,
+            self.tooth_offset,
+            self.mean_stiffness,
+            self.contact_ratio,
+            self.end_to_peak,
+            self.phase,
+            self.law,
+            self.curve_start,
+            self.curve_size,
+            self.curve,
+            self.factor_start,
+            self.factor,
+            self.max_pairs,
+        )
+
+    def mesh_cycle(self, theta: np.ndarray) -> np.ndarray:
+        """s = sigma Z1 theta / 2 pi + gamma for relative angles ``theta`` (..., n_mesh)."""
+        return self.cycle_sign * self.teeth[0] * np.asarray(theta) / (2 * np.pi) + self.phase
+
+    def evaluate(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """Evaluate every mesh at one state.
+
+        Parameters
+        ----------
+        theta : array_like, shape (n_mesh,)
+            Rotation of each mesh's gear 1 relative to the carrier [rad].
+
+        Returns
+        -------
+        dict
+            ``stiffness`` (n_mesh) [N/m], ``pairs`` and ``loaded_pairs`` (n_mesh),
+            ``position`` (n_mesh, max_pairs) [mesh cycles, -1 unused] and
+            ``tooth_1``, ``tooth_2`` (n_mesh, max_pairs) [0-based, -1 unused].
+        """
+        theta = np.ascontiguousarray(theta, dtype=np.float64)
+        stiffness, pairs, loaded, position, tooth, ierr = _kernel.contact_table_evaluate(
+            theta, *self.kernel_arguments()
+        )
+        self._raise(ierr, "contact_table_evaluate")
+        return {
+            "stiffness": stiffness,
+            "pairs": pairs,
+            "loaded_pairs": loaded,
+            "position": position.T,
+            "tooth_1": tooth[0].T,
+            "tooth_2": tooth[1].T,
+        }
+
+    def series(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """Evaluate every mesh at many states in one kernel call.
+
+        Parameters
+        ----------
+        theta : array_like, shape (n_state, n_mesh)
+            Relative rotations of gear 1 [rad], one row per state.
+
+        Returns
+        -------
+        dict
+            As :meth:`evaluate`, with a leading state axis.
+        """
+        theta = np.asarray(theta, dtype=np.float64)
+        stiffness, pairs, loaded, position, tooth, bad, ierr = _kernel.contact_table_series(
+            np.asfortranarray(theta.T), *self.kernel_arguments()
+        )
+        self._raise(ierr, "contact_table_series", state=int(bad))
+        return {
+            "stiffness": stiffness.T,
+            "pairs": pairs.T,
+            "loaded_pairs": loaded.T,
+            "position": position.transpose(2, 1, 0),
+            "tooth_1": tooth[0].transpose(2, 1, 0),
+            "tooth_2": tooth[1].transpose(2, 1, 0),
+        }
+
+    def check(self) -> None:
+        """Run the kernel's table check; raise :class:`KernelError` naming the mesh at fault."""
+        bad, ierr = _kernel.contact_table_check(*self.kernel_arguments())
+        if ierr:
+            where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
+            raise KernelError(
+                f"kernel routine contact_table_check: "
+                f"{_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
+            )
+
+    def _raise(self, ierr: int, routine: str, state: int = 0) -> None:
+        if ierr:
+            where = f" at state {state - 1}" if state > 0 else ""
+            raise KernelError(
+                f"kernel routine {routine}: {_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
+            )
+
+
+def _normalised_curve(curve: tuple[float, ...]) -> np.ndarray:
+    """Samples scaled to unit mean over [0, eps] under linear interpolation (trapezoid rule)."""
+    values = np.asarray(curve, dtype=np.float64)
+    mean = (values.sum() - 0.5 * (values[0] + values[-1])) / (len(values) - 1)
+    return values / mean
+
+
+def build_contact_table(
+    case: Case,
+    model: Model,
+    scene: Scene | None = None,
+    *,
+    direction: int = 1,
+    sun_driven: bool = True,
+) -> ContactTable:
+    """The tooth-contact table of an assembled model's meshes.
+
+    Parameters
+    ----------
+    case : Case
+        The case (stages, meshes, tooth numbers, phase overrides, defects).
+    model : Model
+        The assembled model; its ``meshes`` fix the order of the table.
+    scene : Scene, optional
+        Scene whose defects apply on top of the case's.
+    direction : int
+        sigma = +1 when each sun turns in +z relative to its carrier, -1 otherwise.
+    sun_driven : bool
+        True when the carrier drives and the sun is the output (the seed's case);
+        it decides where contact starts and so the ring-to-sun phase.
+
+    Returns
+    -------
+    ContactTable
+        Checked by the kernel.
+
+    Raises
+    ------
+    CaseError
+        A tooth number is missing, or a scene defect does not fit the gearbox.
+    """
+    if scene is not None:
+        validate_defects(case.gearbox, scene.defects, f"scene {scene.name!r} defects")
+    defects = merged_defects(case, scene)
+    several = len(case.gearbox.stages) > 1
+    phasing: dict[str, dict] = {}
+    rows = []
+    curves: list[np.ndarray] = []
+    curve_offset = 0
+    for mesh in model.meshes:
+        stage = case.gearbox.stage(mesh.stage)
+        if stage.name not in phasing:
+            phasing[stage.name] = stage_phasing(stage, direction=direction, sun_driven=sun_driven)
+        central = mesh.name.split("-", 1)[0]
+        component = getattr(stage, f"{central}_mesh")
+        phase = phasing[stage.name][mesh.name]
+        if component.stiffness_curve is not None:
+            curve = _normalised_curve(component.stiffness_curve)
+            law, start, size = LAW_CODES["tabulated"], curve_offset, len(curve)
+            curves.append(curve)
+            curve_offset += len(curve)
+        else:
+            law, start, size = LAW_CODES["parabola"], 0, 0
+        rows.append(
+            dict(
+                name=f"{stage.name}.{mesh.name}" if several else mesh.name,
+                gears=(f"{stage.name}.{central}", f"{stage.name}.planet{mesh.planet}"),
+                angles=(
+                    (f"{stage.name}.sun", f"{stage.name}.carrier")
+                    if central == "sun"
+                    else (f"{stage.name}.carrier", f"{stage.name}.ring")
+                ),
+                teeth=(getattr(stage, central).teeth, stage.planet.teeth),
+                offset=(phase.gear_1_offset, phase.gear_2_offset),
+                mean=mesh.mean_stiffness,
+                ratio=mesh.contact_ratio,
+                lam=mesh.end_to_peak,
+                phase=phase.phase,
+                law=law,
+                start=start,
+                size=size,
+            )
+        )
+    factor_start, factor = _pack_factors(case, rows, defects)
+    ratios = np.array([r["ratio"] for r in rows], dtype=np.float64)
+    table = ContactTable(
+        names=tuple(r["name"] for r in rows),
+        gears=tuple(r["gears"] for r in rows),
+        angles=tuple(r["angles"] for r in rows),
+        teeth=np.asfortranarray(np.array([r["teeth"] for r in rows], dtype=np.int32).T),
+        cycle_sign=np.full(len(rows), direction, dtype=np.int32),
+        tooth_offset=np.asfortranarray(np.array([r["offset"] for r in rows], dtype=np.int32).T),
+        mean_stiffness=np.array([r["mean"] for r in rows], dtype=np.float64),
+        contact_ratio=ratios,
+        end_to_peak=np.array([r["lam"] for r in rows], dtype=np.float64),
+        phase=np.array([r["phase"] for r in rows], dtype=np.float64),
+        law=np.array([r["law"] for r in rows], dtype=np.int32),
+        curve_start=np.array([r["start"] for r in rows], dtype=np.int32),
+        curve_size=np.array([r["size"] for r in rows], dtype=np.int32),
+        curve=np.concatenate(curves + [np.zeros(1)]),
+        factor_start=factor_start,
+        factor=factor,
+        max_pairs=int(math.ceil(ratios.max())) + 1 if len(rows) else 1,
+        defects=defects,
+    )
+    table.check()
+    return table
+
+
+def _pack_factors(
+    case: Case, rows: list[dict], defects: tuple[ToothDefect, ...]
+) -> tuple[np.ndarray, np.ndarray]:
+    """One block of per-tooth factors per defective gear, shared by all its meshes."""
+    blocks: dict[str, np.ndarray] = {}
+    for defect in defects:
+        stage = case.gearbox.stage(defect.stage)
+        teeth = stage.gear_teeth(defect.member)
+        block = blocks.setdefault(defect.gear, np.ones(teeth))
+        block[defect.tooth] = defect.factor
+    offsets, packed, position = {}, [], 0
+    for gear, block in blocks.items():
+        offsets[gear] = position
+        packed.append(block)
+        position += len(block)
+    start = np.array([[offsets.get(g, -1) for g in r["gears"]] for r in rows], dtype=np.int32)
+    return np.asfortranarray(start.T.reshape(2, len(rows))), np.concatenate(packed + [np.ones(1)])
+
+
+def _relative_speeds(stage: PlanetaryStage, carrier_speed: float) -> dict[str, float]:
+    """d theta_rel / dt of sun and ring meshes at carrier speed [rad/s], ring held,
+    from base radii (PHYSICS.md 2): theta_s - theta_c = (r_br / r_bs) omega_c t,
+    theta_c - theta_r = omega_c t."""
+    return {
+        "sun": stage.ring.base_radius / stage.sun.base_radius * carrier_speed,
+        "ring": carrier_speed,
+    }
+
+
+def mesh_stiffness_at_constant_speed(
+    case: Case,
+    *,
+    carrier_speed_rpm: float = 120.0,
+    duration: float | None = None,
+    samples_per_cycle: int = 200,
+    scene: Scene | None = None,
+    formulation: str | None = None,
+    sun_driven: bool = True,
+) -> xr.Dataset:
+    """Mesh stiffness of every mesh along the ideal kinematics of a constant carrier speed.
+
+    Each stage's carrier turns at ``carrier_speed_rpm`` with its ring held, so
+    theta_rel = (r_br/r_bs) omega_c t for the sun meshes and omega_c t for the ring
+    meshes (mesh frequency Z_r omega_c / 2 pi).  A negative speed runs the mirror
+    image (sigma = -1).
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    carrier_speed_rpm : float
+        Carrier speed [rpm], non-zero.
+    duration : float, optional
+        Length of the run [s].  Default: 5 cycles of the slowest mesh; with defects,
+        two revolutions of the largest defective gear relative to the carrier plus
+        the contact ratio.
+    samples_per_cycle : int
+        Samples per cycle of the fastest mesh.
+    scene : Scene, optional
+        Scene whose defects (and formulation) apply.
+    formulation : str, optional
+        Formulation of the model whose meshes are listed (the kinematics are the same).
+    sun_driven : bool
+        Power flow, see :func:`build_contact_table`.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``mesh_stiffness(time, mesh)`` [N/m], ``pairs_in_contact(time, mesh)`` (pairs
+        carrying load), ``mesh_cycle(time, mesh)``, ``contact_position``, ``tooth_1``
+        and ``tooth_2`` over ``(time, mesh, pair)``; per-mesh coordinates ``gear_1``,
+        ``gear_2``, ``mean_stiffness``, ``contact_ratio``, ``phase``, ``mesh_frequency``.
+    """
+    if not (math.isfinite(carrier_speed_rpm) and carrier_speed_rpm != 0):
+        raise CaseError(
+            f"--speed must be a finite non-zero carrier speed (got {carrier_speed_rpm!r})"
+        )
+    if not isinstance(samples_per_cycle, int) or samples_per_cycle < 4:
+        raise CaseError(
+            f"samples_per_cycle must be a whole number >= 4 (got {samples_per_cycle!r})"
+        )
+    model = assemble(case, scene, formulation=formulation)
+    direction = 1 if carrier_speed_rpm > 0 else -1
+    table = build_contact_table(case, model, scene, direction=direction, sun_driven=sun_driven)
+    omega_c = carrier_speed_rpm * math.pi / 30
+    speeds = np.array(
+        [
+            _relative_speeds(case.gearbox.stage(m.stage), omega_c)[m.name.split("-", 1)[0]]
+            for m in model.meshes
+        ]
+    )
+    frequency = table.teeth[0] * np.abs(speeds) / (2 * np.pi)
+    if duration is None:
+        cycles = DEFAULT_CYCLES
+        if table.defects:
+            largest = max(case.gearbox.stage(d.stage).gear_teeth(d.member) for d in table.defects)
+            cycles = max(cycles, 2 * largest + math.ceil(table.contact_ratio.max()))
+        duration = cycles / frequency.min()
+    if not (math.isfinite(duration) and duration > 0):
+        raise CaseError(f"--duration must be a positive number of seconds (got {duration!r})")
+    step = 1.0 / (frequency.max() * samples_per_cycle)
+    time = np.arange(int(math.floor(duration / step + 1e-9)) + 1) * step
+    theta = np.outer(time, speeds)
+    result = table.series(theta)
+    pairs = np.arange(table.max_pairs)
+    position = np.where(result["position"] < 0, np.nan, result["position"])
+    dataset = xr.Dataset(
+        data_vars={
+            "mesh_stiffness": (
+                ("time", "mesh"),
+                result["stiffness"],
+                {"units": "N/m", "long_name": "time-varying mesh stiffness k_m"},
+            ),
+            "pairs_in_contact": (
+                ("time", "mesh"),
+                result["loaded_pairs"],
+                {"units": "1", "long_name": "tooth pairs in contact carrying load"},
+            ),
+            "mesh_cycle": (
+                ("time", "mesh"),
+                table.mesh_cycle(theta),
+                {"units": "1", "long_name": "mesh cycle s = sigma Z1 theta_rel / 2 pi + gamma"},
+            ),
+            "contact_position": (
+                ("time", "mesh", "pair"),
+                position,
+                {
+                    "units": "1",
+                    "long_name": "relative contact position p_k "
+                    "from the start of contact (mesh cycles)",
+                },
+            ),
+            "tooth_1": (
+                ("time", "mesh", "pair"),
+                result["tooth_1"],
+                {
+                    "units": "1",
+                    "long_name": "0-based tooth of gear 1 (sun or ring) in pair k, -1 none",
+                },
+            ),
+            "tooth_2": (
+                ("time", "mesh", "pair"),
+                result["tooth_2"],
+                {"units": "1", "long_name": "0-based tooth of gear 2 (planet) in pair k, -1 none"},
+            ),
+        },
+        coords={
+            "time": ("time", time, {"units": "s", "long_name": "time"}),
+            "mesh": ("mesh", list(table.names), {"long_name": "mesh"}),
+            "pair": ("pair", pairs, {"units": "1", "long_name": "tooth pair k, 0 the newest"}),
+            "gear_1": ("mesh", [g[0] for g in table.gears], {"long_name": "gear 1 (sun or ring)"}),
+            "gear_2": ("mesh", [g[1] for g in table.gears], {"long_name": "gear 2 (planet)"}),
+            "mean_stiffness": (
+                "mesh",
+                table.mean_stiffness,
+                {"units": "N/m", "long_name": "mean mesh stiffness k-bar"},
+            ),
+            "contact_ratio": (
+                "mesh",
+                table.contact_ratio,
+                {"units": "1", "long_name": "transverse contact ratio"},
+            ),
+            "phase": ("mesh", table.phase, {"units": "1", "long_name": "mesh phase gamma"}),
+            "mesh_frequency": ("mesh", frequency, {"units": "Hz", "long_name": "mesh frequency"}),
+        },
+        attrs={
+            "case": case.name,
+            "carrier_speed_rpm": float(carrier_speed_rpm),
+            "formulation": model.formulation,
+            "power_flow": "carrier to sun" if sun_driven else "sun to carrier",
+            "defects": "; ".join(
+                f"{d.gear} tooth {d.tooth} factor {d.factor:g}" for d in table.defects
+            )
+            or "none",
+            "tooth_numbering": "0-based, in the order teeth come into mesh (pygear.mesh_phasing)",
+        },
+    )
+    _warn_contact_loss(dataset)
+    return dataset
+
+
+def _warn_contact_loss(dataset: xr.Dataset) -> None:
+    lost = (dataset.pairs_in_contact == 0).mean("time")
+    for name, share in zip(dataset.mesh.values, lost.values, strict=True):
+        if share > 0:
+            warnings.warn(
+                f"mesh {name}: no tooth pair carries load during {100 * share:.3g} % "
+                f"of the run (missing teeth); its stiffness is zero there",
+                ContactLossWarning,
+                stacklevel=3,
+            )
+
+
+def write_mesh_stiffness(
+    case_ref: Case | str | os.PathLike,
+    speed_rpm: float = 120.0,
+    duration: float | None = None,
+    out_path: str | os.PathLike = "mesh_stiffness.nc",
+) -> xr.Dataset:
+    """Compute the constant-speed mesh stiffness, write it as NetCDF and draw its figure.
+
+    The NetCDF file is written as ``<out>.tmp`` in the same directory and renamed
+    when complete; the figure goes next to it as ``<out stem>.png`` the same way.
+
+    Parameters
+    ----------
+    case_ref : Case, str or path
+        A case, or a case directory or name under ``cases/``.
+    speed_rpm : float
+        Carrier speed [rpm].
+    duration : float, optional
+        Length of the run [s]; see :func:`mesh_stiffness_at_constant_speed`.
+    out_path : str or path
+        Target ``.nc`` file.
+
+    Returns
+    -------
+    xarray.Dataset
+        The dataset as written.
+    """
+    from .io import atomic_path, write_netcdf
+    from .plots_mesh import plot_mesh_stiffness
+
+    case = case_ref if isinstance(case_ref, Case) else load_case(case_ref)
+    dataset = mesh_stiffness_at_constant_speed(case, carrier_speed_rpm=speed_rpm, duration=duration)
+    out_path = Path(out_path)
+    write_netcdf(
+        dataset,
+        out_path,
+        title=f"Time-varying mesh stiffness of {case.name} at {speed_rpm:g} rpm",
+        input_hash=case.input_hash(),
+    )
+    with atomic_path(out_path.with_suffix(".png")) as temporary:
+        plot_mesh_stiffness(dataset, temporary, format="png")
+    return dataset

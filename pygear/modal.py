@@ -1,0 +1,246 @@
+"""Modal analysis: natural frequencies, mode shapes, mode classes, modal energy and
+the sensitivity of every natural frequency to any stiffness parameter.
+
+Classes follow Lin & Parker (1999) and, for spatial models, their out-of-plane
+counterparts: a **rotational** mode has no central-member translation, a
+**translational** mode no central-member rotation, a **planet** mode no
+central-member motion at all.  Classes are read off the mode shapes through the
+kinetic energy of each body's translation and rotation, never assumed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+import xarray as xr
+
+from .assembly import Model
+
+__all__ = [
+    "ENERGY_GROUPS",
+    "classify",
+    "modal_analysis",
+    "solve_eigenproblem",
+]
+
+ENERGY_GROUPS = (
+    "central rotation",
+    "central translation",
+    "planet rotation",
+    "planet translation",
+)
+"""The paper's four modal-energy bars (Figures 4 and 5)."""
+
+ZERO_EIGENVALUE = 1e-11
+"""Eigenvalues below this fraction of the largest are rigid-body modes (0 Hz)."""
+
+CLASS_TOLERANCE = 1e-6
+"""Energy share below which a motion counts as absent when classifying."""
+
+REPEAT_TOLERANCE = 1e-6
+"""Relative frequency difference below which modes count as one repeated frequency."""
+
+
+def solve_eigenproblem(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies [Hz] and mass-normalised mode shapes (reduced DOFs).
+
+    Solves K phi = omega^2 M phi with a symmetric solver; rigid-body modes are
+    reported as exactly 0 Hz.  With speed-dependent planet terms the gyroscopic
+    problem is solved in state space and the shapes are complex.
+    """
+    if model.gyroscopic is not None and np.any(model.gyroscopic):
+        return _solve_gyroscopic(model)
+    eigenvalues, shapes = scipy.linalg.eigh(model.stiffness, model.mass)
+    scale = max(abs(eigenvalues).max(), 1.0)
+    eigenvalues = np.where(eigenvalues < ZERO_EIGENVALUE * scale, 0.0, eigenvalues)
+    return np.sqrt(eigenvalues) / (2 * np.pi), shapes
+
+
+def _solve_gyroscopic(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    n = model.size
+    mass_inverse = np.linalg.inv(model.mass)
+    state = np.block(
+        [
+            [np.zeros((n, n)), np.eye(n)],
+            [-mass_inverse @ model.stiffness, -mass_inverse @ model.gyroscopic],
+        ]
+    )
+    eigenvalues, vectors = scipy.linalg.eig(state)
+    omega = eigenvalues.imag
+    scale = max(abs(eigenvalues).max(), 1.0)
+    rigid = abs(eigenvalues) < np.sqrt(ZERO_EIGENVALUE) * scale
+    keep = (omega > 0) & ~rigid
+    order = np.argsort(omega[keep])
+    frequencies = omega[keep][order] / (2 * np.pi)
+    shapes = vectors[:n, keep][:, order]
+    n_rigid = n - frequencies.size
+    if n_rigid:
+        null = scipy.linalg.null_space(model.stiffness, rcond=1e-9)[:, :n_rigid]
+        frequencies = np.concatenate([np.zeros(n_rigid), frequencies])
+        shapes = np.concatenate([null.astype(complex), shapes], axis=1)
+    modal_mass = np.einsum("im,ij,jm->m", shapes.conj(), model.mass, shapes).real
+    return frequencies, shapes / np.sqrt(modal_mass)
+
+
+def energy_table(model: Model, shapes: np.ndarray) -> dict[tuple[str, str, str], np.ndarray]:
+    """Kinetic-energy share of every (role, motion, plane) group, per mode.
+
+    Returns a mapping such as ``("central", "rotation", "in-plane") -> shares``; the
+    shares of all groups sum to one for every mode.
+    """
+    full = model.reduction @ shapes
+    total = np.einsum("im,ij,jm->m", full.conj(), _full_mass(model), full).real
+    table: dict[tuple[str, str, str], np.ndarray] = {}
+    for part in model.mass_parts:
+        block = full[part.dofs]
+        energy = np.einsum("im,ij,jm->m", block.conj(), part.matrix, block).real
+        key = (part.role, part.motion, part.plane)
+        table[key] = table.get(key, 0.0) + energy / total
+    return table
+
+
+def _full_mass(model: Model) -> np.ndarray:
+    n = len(model.full_labels)
+    mass = np.zeros((n, n))
+    for part in model.mass_parts:
+        mass[np.ix_(part.dofs, part.dofs)] += part.matrix
+    return mass
+
+
+def classify(table: dict[tuple[str, str, str], np.ndarray]) -> list[str]:
+    """Mode class of every mode from its energy table.
+
+    ``planet`` (central members still), ``rotational`` (no central translation),
+    ``translational`` (no central rotation); out of plane the same families are
+    ``planet-out-of-plane``, ``axial`` and ``tilting``, and a helical stage couples them
+    into ``rotational-axial`` and ``translational-tilting``.  ``mixed`` otherwise.
+    """
+    n_modes = len(next(iter(table.values())))
+
+    def share(role: str | None = None, motion: str | None = None, plane: str | None = None):
+        total = np.zeros(n_modes)
+        for (r, m, p), values in table.items():
+            if (role in (None, r)) and (motion in (None, m)) and (plane in (None, p)):
+                total = total + values
+        return total
+
+    central = share("central")
+    central_rotation = share("central", "rotation", "in-plane")  # theta_z
+    central_tilt = share("central", "rotation", "out-of-plane")
+    central_translation = share("central", "translation", "in-plane")
+    central_axial = share("central", "translation", "out-of-plane")
+    in_plane, out_of_plane = share(plane="in-plane"), share(plane="out-of-plane")
+    classes = []
+    tol = CLASS_TOLERANCE
+    for m in range(n_modes):
+        planar, spatial = out_of_plane[m] < tol, in_plane[m] < tol
+        if central[m] < tol:
+            name = "planet" if planar else "planet-out-of-plane" if spatial else "planet-coupled"
+        elif central_translation[m] + central_tilt[m] < tol:
+            name = "rotational" if planar else "axial" if spatial else "rotational-axial"
+        elif central_rotation[m] + central_axial[m] < tol:
+            name = "translational" if planar else "tilting" if spatial else "translational-tilting"
+        else:
+            name = "mixed"
+        classes.append(name)
+    return classes
+
+
+def multiplicities(frequencies: np.ndarray) -> np.ndarray:
+    """How many modes share each mode's natural frequency."""
+    scale = max(frequencies.max(initial=0.0), 1.0)
+    result = np.ones(frequencies.size, dtype=int)
+    for i, f in enumerate(frequencies):
+        close = np.abs(frequencies - f) <= REPEAT_TOLERANCE * max(f, 1e-9 * scale)
+        result[i] = close.sum()
+    return result
+
+
+def modal_analysis(model: Model) -> xr.Dataset:
+    """Natural frequencies, shapes, classes, multiplicities and energy shares.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``frequency(mode)`` [Hz], ``mode_class(mode)``, ``class_index(mode)`` (1-based
+        order within the class, repeated frequencies counted once), ``multiplicity(mode)``,
+        ``shape(dof, mode)`` (mass-normalised, reduced DOFs) and
+        ``energy_share(mode, energy_group)`` (the paper's four bars).
+    """
+    frequencies, shapes = solve_eigenproblem(model)
+    table = energy_table(model, shapes)
+    classes = classify(table)
+    repeated = multiplicities(frequencies)
+    bars = np.stack(
+        [
+            sum(v for (role, motion, _), v in table.items() if f"{role} {motion}" == group)
+            + np.zeros(frequencies.size)
+            for group in ENERGY_GROUPS
+        ],
+        axis=1,
+    )
+    class_index = _class_indices(frequencies, classes)
+    dataset = xr.Dataset(
+        {
+            "frequency": ("mode", frequencies, {"units": "Hz", "long_name": "natural frequency"}),
+            "mode_class": (
+                "mode",
+                np.array(classes, dtype=object),
+                {"long_name": "mode class (Lin & Parker families)"},
+            ),
+            "class_index": (
+                "mode",
+                class_index,
+                {"long_name": "order within the class, repeated frequencies once"},
+            ),
+            "multiplicity": ("mode", repeated, {"long_name": "number of modes at this frequency"}),
+            "shape": (
+                ("dof", "mode"),
+                shapes.real if not np.iscomplexobj(shapes) else abs(shapes),
+                {"units": "1", "long_name": "mass-normalised mode shape (reduced DOFs)"},
+            ),
+            "energy_share": (
+                ("mode", "energy_group"),
+                bars,
+                {"units": "1", "long_name": "share of modal kinetic energy"},
+            ),
+        },
+        coords={
+            "mode": ("mode", np.arange(1, frequencies.size + 1), {"long_name": "mode number"}),
+            "dof": (
+                "dof",
+                np.array(model.dof_labels, dtype=object),
+                {"long_name": "reduced degree of freedom"},
+            ),
+            "energy_group": (
+                "energy_group",
+                np.array(ENERGY_GROUPS, dtype=object),
+                {"long_name": "body family and motion"},
+            ),
+        },
+        attrs=model_attributes(model),
+    )
+    return dataset
+
+
+def _class_indices(frequencies: np.ndarray, classes: list[str]) -> np.ndarray:
+    index = np.zeros(frequencies.size, dtype=int)
+    counters: dict[str, list[float]] = {}
+    for m, (f, name) in enumerate(zip(frequencies, classes)):
+        seen = counters.setdefault(name, [])
+        if not seen or abs(f - seen[-1]) > REPEAT_TOLERANCE * max(f, 1e-9):
+            seen.append(f)
+        index[m] = len(seen)
+    return index
+
+
+def model_attributes(model: Model) -> dict[str, str | int]:
+    """Global attributes that say which model produced a result."""
+    return {
+        "case": model.case_name,
+        "formulation": model.formulation,
+        "dof_set": model.dof_set,
+        "dof_set_reason": model.dof_set_reason,
+        "dof_count": model.size,
+        "effects": ", ".join(model.effects) or "none",
+    }
