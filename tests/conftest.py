@@ -1,0 +1,61 @@
+"""Shared fixtures: the seed's study case and stages built for a test."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from pygear import (
+    Bearing,
+    Carrier,
+    Case,
+    Gear,
+    Gearbox,
+    Mesh,
+    PlanetaryStage,
+    PlanetBearing,
+    load_case,
+)
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+
+
+@pytest.fixture(scope="session")
+def study_case() -> Case:
+    """The seed paper's planetary study case (Table 1)."""
+    return load_case(CASES / "yang2016_planetary")
+
+
+def consistent_stage(planets: int, *, helix_deg: float = 0.0, axial_position: float = 0.0,
+                     planet_angles_deg: tuple[float, ...] | None = None,
+                     name: str = "stage") -> PlanetaryStage:
+    """A stage whose radii satisfy r_bs + r_bp = r_c cos(alpha_s) and
+    r_br - r_bp = r_c cos(alpha_r) exactly, with room for up to 8 planets."""
+    alpha = math.radians(22.0)
+    sun, planet = 0.060, 0.020
+    carrier = (sun + planet) / math.cos(alpha)
+    ring = planet + carrier * math.cos(alpha)
+    return PlanetaryStage(
+        name=name,
+        carrier=Carrier(mass=6.0, polar_inertia=0.07, tilt_inertia=0.04, radius=carrier),
+        ring=Gear(mass=3.0, polar_inertia=0.06, tilt_inertia=0.03, base_radius=ring),
+        sun=Gear(mass=0.8, polar_inertia=2.0e-3, tilt_inertia=1.1e-3, base_radius=sun),
+        planet=Gear(mass=0.3, polar_inertia=1.0e-4, tilt_inertia=0.6e-4, base_radius=planet),
+        planets=planets,
+        carrier_bearing=Bearing(radial=2e8, axial=1.5e8, tilt=3e6, torsional=0.0),
+        ring_bearing=Bearing(radial=3e8, axial=2e8, tilt=4e6, torsional=5e7),
+        sun_bearing=Bearing(radial=1e8, axial=1e8, tilt=2e6, torsional=0.0),
+        planet_bearing=PlanetBearing(radial=1.2e8, axial=0.9e8, tilt=1.5e6),
+        sun_mesh=Mesh(stiffness=4e8, pressure_angle_deg=22.0, contact_ratio=1.5),
+        ring_mesh=Mesh(stiffness=6e8, pressure_angle_deg=22.0, contact_ratio=1.6, end_to_peak=0.7),
+        planet_angles_deg=planet_angles_deg,
+        base_helix_angle_deg=helix_deg,
+        axial_position=axial_position,
+    )
+
+
+def case_of(*stages: PlanetaryStage, formulation: str = "consistent") -> Case:
+    """A case holding the given stages and no scenes of its own."""
+    return Case(name="test", gearbox=Gearbox(stages=stages), formulation=formulation)
