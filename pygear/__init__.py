@@ -5,7 +5,7 @@ Yang, Jiang & Han 2016, a kinetically consistent variant, and Lin & Parker 1999)
 assembled from Fortran element matrices, with modal analysis and sensitivities.
 """
 
-from .case import Case, Gearbox, RayleighDamping, Scene, load_case
+from .case import Case, RayleighDamping, Scene, load_case
 from .components import (
     Bearing,
     Body,
@@ -17,6 +17,7 @@ from .components import (
     PlanetBearing,
     ToothDefect,
 )
+from .gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
 
 __version__ = "0.1.0"
 
@@ -29,6 +30,10 @@ __all__ = [
     "Gear",
     "Gearbox",
     "Mesh",
+    "ParallelStage",
+    "RigidLink",
+    "ShaftInertia",
+    "TorsionalSpring",
     "PlanetBearing",
     "PlanetaryStage",
     "RayleighDamping",

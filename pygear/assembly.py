@@ -16,6 +16,7 @@ import numpy as np
 from . import _kernel
 from .case import DOF_SETS, FORMULATIONS, Case, Scene, check_choice
 from .components import CaseError, PlanetaryStage
+from .gearbox import CENTRAL_DOFS, PLANET_DOFS, ParallelStage, RigidLink, TorsionalSpring
 from .kernel import FORMULATION_CODES, MESH_KINDS, call
 
 __all__ = [
@@ -29,8 +30,6 @@ __all__ = [
     "choose_dof_set",
 ]
 
-CENTRAL_DOFS = ("x", "y", "z", "theta_x", "theta_y", "theta_z")
-PLANET_DOFS = ("zeta", "eta", "z", "theta_zeta", "theta_eta", "theta_z", "phi")
 IN_PLANE_DOFS = frozenset({"x", "y", "theta_z", "zeta", "eta", "phi"})
 DOF_SET_MEMBERS = {
     "spatial": frozenset(CENTRAL_DOFS + PLANET_DOFS),
@@ -173,9 +172,38 @@ def choose_dof_set(case: Case, scene: Scene | None, override: str | None = None)
         return override, "asked for on the command line"
     if scene is not None and scene.dof_set is not None:
         return scene.dof_set, f"set by scene {scene.name!r}"
-    if all(stage.spur for stage in case.gearbox.stages):
+    spatial = _spatial_stages(case)
+    if not spatial:
         return "planar", "chosen: spur stages only, out-of-plane DOFs decoupled"
-    return "spatial", "chosen: a helical stage couples in-plane and out-of-plane DOFs"
+    if len(spatial) == len(case.gearbox.stages):
+        return "spatial", "chosen: every stage couples in-plane and out-of-plane DOFs"
+    return "per-stage", (
+        f"chosen: {', '.join(sorted(spatial))} spatial (helical, or coupled out of plane), "
+        "the spur stages planar (their out-of-plane DOFs are decoupled)"
+    )
+
+
+def _spatial_stages(case: Case) -> set[str]:
+    """Stages whose out-of-plane DOFs a scene cannot drop: helical ones, and those a
+    coupling reaches out of plane."""
+    spatial = {stage.name for stage in case.gearbox.stages if not stage.spur}
+    for coupling in case.gearbox.couplings:
+        for label in (coupling.a, coupling.b):
+            stage, _, dof = label.split(".")
+            if dof not in IN_PLANE_DOFS:
+                spatial.add(stage)
+    return spatial
+
+
+def _kept_dofs(case: Case, dof_set: str) -> dict[str, frozenset[str]]:
+    """DOF names kept at the nodes of each stage."""
+    if dof_set != "per-stage":
+        return {stage.name: DOF_SET_MEMBERS[dof_set] for stage in case.gearbox.stages}
+    spatial = _spatial_stages(case)
+    return {
+        stage.name: DOF_SET_MEMBERS["spatial" if stage.name in spatial else "planar"]
+        for stage in case.gearbox.stages
+    }
 
 
 def assemble(
@@ -210,9 +238,15 @@ def assemble(
     builder = _Builder(formulation)
     builder.add_node("housing", "housing", CENTRAL_DOFS)
     for stage in case.gearbox.stages:
-        builder.add_planetary_stage(stage, effects, scene)
+        if isinstance(stage, PlanetaryStage):
+            builder.add_planetary_stage(stage, effects, scene)
+        elif isinstance(stage, ParallelStage):
+            builder.add_parallel_stage(stage)
+        else:
+            builder.add_central_member(stage, "body", stage.body, stage.bearing)
+    coupling_damping = builder.add_couplings(case.gearbox.couplings)
 
-    reduction, reduced = builder.reduction(DOF_SET_MEMBERS[dof_set])
+    reduction, reduced = builder.reduction(_kept_dofs(case, dof_set))
     mass_full = sum(_embed(len(builder.labels), p.dofs, p.matrix) for p in builder.mass_parts)
     stiffness_full = np.zeros_like(mass_full)
     for spring in builder.springs:
@@ -221,7 +255,12 @@ def assemble(
     stiffness_full += builder.extra_stiffness(mass_full.shape[0])
     mass = reduction.T @ mass_full @ reduction
     stiffness = reduction.T @ stiffness_full @ reduction
-    damping = case.damping.mass_coefficient * mass + case.damping.stiffness_coefficient * stiffness
+    damping = (
+        case.damping.mass_coefficient * mass
+        + case.damping.stiffness_coefficient * stiffness
+        + reduction.T @ coupling_damping @ reduction
+    )
+    _check_rigid_body_modes(case, mass, stiffness)
     gyroscopic = None
     if builder.gyroscopic_parts:
         gyroscopic_full = sum(
@@ -295,37 +334,10 @@ class _Builder:
     ) -> None:
         lin_parker = self.formulation == "lin-parker"
         planet_dofs = PLANET_DOFS[:6] if lin_parker else PLANET_DOFS
-        housing = self.nodes[0]
         central = {}
         for member in ("carrier", "ring", "sun"):
-            node = self.add_node(f"{stage.name}.{member}", "central", CENTRAL_DOFS)
-            central[member] = node
-            body = getattr(stage, member)
-            self.add_body_mass(
-                node, *call("central_mass_matrix", body.mass, body.tilt_inertia, body.polar_inertia)
-            )
-            bearing = getattr(stage, f"{member}_bearing")
-            deflection, stiffness = call(
-                "central_bearing_springs",
-                bearing.radial,
-                bearing.axial,
-                bearing.tilt,
-                bearing.torsional,
-                np.array([0.0, 0.0, stage.axial_position]),
-            )
-            prefix = f"{stage.name}.{member}_bearing."
-            self.springs.append(
-                SpringElement(
-                    f"{stage.name}.{member}_bearing",
-                    "central_bearing",
-                    tuple(
-                        prefix + p
-                        for p in ("radial", "radial", "axial", "tilt", "tilt", "torsional")
-                    ),
-                    np.concatenate([node.dofs, housing.dofs]),
-                    deflection,
-                    stiffness,
-                )
+            central[member] = self.add_central_member(
+                stage, member, getattr(stage, member), getattr(stage, f"{member}_bearing")
             )
 
         carrier = central["carrier"]
@@ -418,18 +430,19 @@ class _Builder:
             total[np.ix_(dofs, dofs)] += matrix
         return total
 
-    def reduction(self, kept: frozenset[str]) -> tuple[np.ndarray, list[int]]:
+    def reduction(self, kept_by_stage: dict[str, frozenset[str]]) -> tuple[np.ndarray, list[int]]:
         """Reduction matrix T and the full index of each reduced DOF."""
         n_full = len(self.labels)
         dof_name = [label.rsplit(".", 1)[1] for label in self.labels]
         housing = set(self.nodes[0].dofs.tolist())
-        torsional = "eta" not in kept and "x" not in kept
+        stage_of = [label.split(".", 1)[0] for label in self.labels]
+        torsional = all("x" not in kept for kept in kept_by_stage.values())
         free = []
         for i in range(n_full):
             tie = self.ties.get(i)
             if tie and (tie[2] == "always" or torsional):
                 continue
-            if i in housing or dof_name[i] not in kept:
+            if i in housing or dof_name[i] not in kept_by_stage[stage_of[i]]:
                 continue
             free.append(i)
         column = {full: col for col, full in enumerate(free)}
@@ -437,9 +450,127 @@ class _Builder:
         for full, col in column.items():
             reduction[full, col] = 1.0
         for i, (target, factor, when) in self.ties.items():
-            if (when == "always" or torsional) and target in column:
+            if when != "always" and not torsional:
+                continue
+            while target in self.ties and self.ties[target][2] == "always":
+                factor *= self.ties[target][1]
+                target = self.ties[target][0]
+            if target in column:
                 reduction[i, column[target]] = factor
         return reduction, free
+
+    def add_central_member(self, stage, member: str, body, bearing) -> Node:
+        """A 6-DOF body in the inertial frame with its bearing to the housing."""
+        node = self.add_node(f"{stage.name}.{member}", "central", CENTRAL_DOFS)
+        self.add_body_mass(
+            node, *call("central_mass_matrix", body.mass, body.tilt_inertia, body.polar_inertia)
+        )
+        position = (
+            np.array(stage.position(member))
+            if hasattr(stage, "position")
+            else np.array([0.0, 0.0, stage.axial_position])
+        )
+        deflection, stiffness = call(
+            "central_bearing_springs",
+            bearing.radial,
+            bearing.axial,
+            bearing.tilt,
+            bearing.torsional,
+            position,
+        )
+        name = "bearing" if member == "body" else f"{member.removesuffix('_gear')}_bearing"
+        prefix = f"{stage.name}.{name}."
+        self.springs.append(
+            SpringElement(
+                f"{stage.name}.{member}_bearing",
+                "central_bearing",
+                tuple(
+                    prefix + p for p in ("radial", "radial", "axial", "tilt", "tilt", "torsional")
+                ),
+                np.concatenate([node.dofs, self.nodes[0].dofs]),
+                deflection,
+                stiffness,
+            )
+        )
+        return node
+
+    def add_parallel_stage(self, stage: ParallelStage) -> None:
+        """Input and output gear with their bearings and the (helical) mesh."""
+        gear_in = self.add_central_member(
+            stage, "input_gear", stage.input_gear, stage.input_bearing
+        )
+        gear_out = self.add_central_member(
+            stage, "output_gear", stage.output_gear, stage.output_bearing
+        )
+        (deflection,) = call(
+            "parallel_mesh_vector",
+            math.radians(stage.centre_angle_deg),
+            stage.mesh.pressure_angle,
+            stage.input_gear.base_radius,
+            stage.output_gear.base_radius,
+            math.radians(stage.base_helix_angle_deg),
+        )
+        dofs = np.concatenate([gear_in.dofs, gear_out.dofs])
+        self.springs.append(
+            SpringElement(
+                f"{stage.name}.mesh",
+                "mesh",
+                (f"{stage.name}.mesh.stiffness",),
+                dofs,
+                deflection.reshape(-1, 1),
+                np.array([stage.mesh.stiffness]),
+            )
+        )
+        info = dict(
+            name="input-output",
+            stage=stage.name,
+            kind="external",
+            mean_stiffness=stage.mesh.stiffness,
+            contact_ratio=stage.mesh.contact_ratio,
+            end_to_peak=stage.mesh.end_to_peak,
+            planet=0,
+            planet_angle=math.radians(stage.centre_angle_deg),
+        )
+        self.mesh_records.append((info, dofs, deflection))
+
+    def add_couplings(self, couplings: tuple) -> np.ndarray:
+        """Rigid links become ties; torsional springs become springs. Returns the
+        couplings' damping over the full DOFs."""
+        index = {label: i for i, label in enumerate(self.labels)}
+        damping = np.zeros((len(self.labels), len(self.labels)))
+        for coupling in couplings:
+            a, b = index[coupling.a], index[coupling.b]
+            if isinstance(coupling, RigidLink):
+                self.ties[b] = (a, coupling.ratio, "always")
+            elif isinstance(coupling, TorsionalSpring):
+                vector = np.array([[1.0], [-1.0]])
+                self.springs.append(
+                    SpringElement(
+                        f"couplings.{coupling.name}",
+                        "coupling",
+                        (f"couplings.{coupling.name}.stiffness",),
+                        np.array([a, b]),
+                        vector,
+                        np.array([coupling.stiffness]),
+                    )
+                )
+                damping[np.ix_([a, b], [a, b])] += coupling.damping * (vector @ vector.T)
+        return damping
+
+
+def _check_rigid_body_modes(case: Case, mass: np.ndarray, stiffness: np.ndarray) -> None:
+    """Refuse a gearbox whose count of free rigid-body motions is not the declared one."""
+    import scipy.linalg
+
+    eigenvalues = scipy.linalg.eigh(stiffness, mass, eigvals_only=True)
+    count = int(np.sum(eigenvalues < 1e-10 * max(abs(eigenvalues).max(), 1.0)))
+    expected = case.gearbox.rigid_body_modes
+    if count != expected:
+        raise CaseError(
+            f"gearbox.rigid_body_modes: the assembled gearbox has {count} free rigid-body "
+            f"motions, {expected} expected: a part is disconnected or held twice "
+            "(check couplings and torsional bearing stiffnesses)"
+        )
 
 
 def _embed(n: int, dofs: np.ndarray, matrix: np.ndarray) -> np.ndarray:

@@ -16,7 +16,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .components import CaseError, PlanetaryStage, ToothDefect, require_non_negative
+from .components import CaseError, ToothDefect, require_non_negative
+from .gearbox import Gearbox
 
 __all__ = [
     "ANALYSES",
@@ -66,35 +67,6 @@ class RayleighDamping:
     def validate(self, path: str) -> None:
         require_non_negative(f"{path}.mass_coefficient", self.mass_coefficient)
         require_non_negative(f"{path}.stiffness_coefficient", self.stiffness_coefficient)
-
-
-@dataclass(frozen=True)
-class Gearbox:
-    """Stages (and, later, couplings between them) sharing one housing."""
-
-    stages: tuple[PlanetaryStage, ...]
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "stages", tuple(self.stages))
-
-    def stage(self, name: str) -> PlanetaryStage:
-        """The stage called ``name``."""
-        for stage in self.stages:
-            if stage.name == name:
-                return stage
-        known = ", ".join(s.name for s in self.stages)
-        raise CaseError(f"no stage named {name!r} (stages: {known})")
-
-    def validate(self, path: str = "gearbox") -> None:
-        if not self.stages:
-            raise CaseError(f"{path}.stages must hold at least one stage")
-        names = [s.name for s in self.stages]
-        if len(set(names)) != len(names):
-            raise CaseError(f"{path}.stages: stage names must be unique (got {names})")
-        for stage in self.stages:
-            if not isinstance(stage, PlanetaryStage):
-                raise CaseError(f"{path}.stages: {stage!r} is not a stage")
-            stage.validate(stage.name)
 
 
 @dataclass(frozen=True)

@@ -116,6 +116,7 @@ def _modal_summary(modal) -> dict:
         "mode_class": [str(c) for c in modal.mode_class.values],
         "class_index": [int(i) for i in modal.class_index.values],
         "multiplicity": [int(m) for m in modal.multiplicity.values],
+        "stage": [str(st) for st in modal.stage_name.values],
     }
 
 
@@ -125,15 +126,19 @@ def _print_modal_table(modal) -> None:
         f"{modal.attrs['dof_set']} DOF set ({modal.attrs['dof_set_reason']}), "
         f"{modal.sizes['mode']} modes"
     )
-    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'class':<22} {'x':>2}")
-    for m, f, c, i, r in zip(
+    several = modal.sizes["stage"] > 1
+    stage_header = f"{'stage':<12} " if several else ""
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {stage_header}{'class':<22} {'x':>2}")
+    for m, f, st, c, i, r in zip(
         modal.mode.values,
         modal.frequency.values,
+        modal.stage_name.values,
         modal.mode_class.values,
         modal.class_index.values,
         modal.multiplicity.values,
     ):
-        print(f"{m:>4}  {f:>14.1f}  {c + ' ' + str(i):<22} {r:>2}")
+        stage = f"{st:<12} " if several else ""
+        print(f"{m:>4}  {f:>14.1f}  {stage}{c + ' ' + str(i):<22} {r:>2}")
 
 
 def write_modal_outputs(

@@ -82,21 +82,65 @@ def _solve_gyroscopic(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return frequencies, shapes / np.sqrt(modal_mass)
 
 
-def energy_table(model: Model, shapes: np.ndarray) -> dict[tuple[str, str, str], np.ndarray]:
+def energy_table(
+    model: Model, shapes: np.ndarray, stage: str | None = None
+) -> dict[tuple[str, str, str], np.ndarray]:
     """Kinetic-energy share of every (role, motion, plane) group, per mode.
 
     Returns a mapping such as ``("central", "rotation", "in-plane") -> shares``; the
-    shares of all groups sum to one for every mode.
+    shares of all groups sum to one for every mode.  With ``stage`` only that stage's
+    bodies count, as shares of the stage's own energy.
     """
     full = model.reduction @ shapes
-    total = np.einsum("im,ij,jm->m", full.conj(), _full_mass(model), full).real
+    parts = [p for p in model.mass_parts if stage is None or p.body.startswith(f"{stage}.")]
+    energies = [_part_energy(full, p) for p in parts]
+    total = np.maximum(sum(energies), np.finfo(float).tiny)
     table: dict[tuple[str, str, str], np.ndarray] = {}
-    for part in model.mass_parts:
-        block = full[part.dofs]
-        energy = np.einsum("im,ij,jm->m", block.conj(), part.matrix, block).real
+    for part, energy in zip(parts, energies):
         key = (part.role, part.motion, part.plane)
         table[key] = table.get(key, 0.0) + energy / total
     return table
+
+
+def _part_energy(full: np.ndarray, part) -> np.ndarray:
+    block = full[part.dofs]
+    return np.einsum("im,ij,jm->m", block.conj(), part.matrix, block).real
+
+
+def stage_energy(model: Model, shapes: np.ndarray) -> tuple[list[str], np.ndarray]:
+    """Share of each mode's kinetic energy held by each stage: (stage names, shares)."""
+    full = model.reduction @ shapes
+    stages = list(dict.fromkeys(p.body.split(".", 1)[0] for p in model.mass_parts))
+    energy = np.zeros((shapes.shape[1], len(stages)))
+    for part in model.mass_parts:
+        energy[:, stages.index(part.body.split(".", 1)[0])] += _part_energy(full, part)
+    return stages, energy / energy.sum(axis=1, keepdims=True)
+
+
+def classify_by_stage(model: Model, shapes: np.ndarray) -> tuple[list[str], list[str], np.ndarray]:
+    """Dominant stage, class within it, and the stage energy shares of every mode.
+
+    A planetary stage's class comes from :func:`classify` on its own energy; a
+    parallel stage or a shaft is ``rotational`` when rotation about the axis holds
+    most of its energy, ``other`` otherwise (the paper's Table 5).
+    """
+    stages, shares = stage_energy(model, shapes)
+    dominant = [stages[i] for i in shares.argmax(axis=1)]
+    planetary = {node.name.split(".", 1)[0] for node in model.nodes if node.role == "planet"}
+    classes = [""] * len(dominant)
+    for stage in stages:
+        modes = [m for m, d in enumerate(dominant) if d == stage]
+        if not modes:
+            continue
+        table = energy_table(model, shapes[:, modes], stage)
+        if stage in planetary:
+            names = classify(table)
+        else:
+            rotation = table.get(("central", "rotation", "in-plane"), np.zeros(len(modes)))
+            names = ["rotational" if r >= 0.5 else "other" for r in rotation]
+        for m, name in zip(modes, names):
+            classes[m] = name
+    return dominant, classes, shares
 
 
 def _full_mass(model: Model) -> np.ndarray:
@@ -169,7 +213,8 @@ def modal_analysis(model: Model) -> xr.Dataset:
     """
     frequencies, shapes = solve_eigenproblem(model)
     table = energy_table(model, shapes)
-    classes = classify(table)
+    dominant, classes, stage_shares = classify_by_stage(model, shapes)
+    stages = list(dict.fromkeys(p.body.split(".", 1)[0] for p in model.mass_parts))
     repeated = multiplicities(frequencies)
     bars = np.stack(
         [
@@ -179,7 +224,7 @@ def modal_analysis(model: Model) -> xr.Dataset:
         ],
         axis=1,
     )
-    class_index = _class_indices(frequencies, classes)
+    class_index = _class_indices(frequencies, [f"{d} {c}" for d, c in zip(dominant, classes)])
     dataset = xr.Dataset(
         {
             "frequency": ("mode", frequencies, {"units": "Hz", "long_name": "natural frequency"}),
@@ -204,6 +249,16 @@ def modal_analysis(model: Model) -> xr.Dataset:
                 bars,
                 {"units": "1", "long_name": "share of modal kinetic energy"},
             ),
+            "stage_name": (
+                "mode",
+                np.array(dominant, dtype=object),
+                {"long_name": "stage holding most of the mode's kinetic energy"},
+            ),
+            "stage_energy": (
+                ("mode", "stage"),
+                stage_shares,
+                {"units": "1", "long_name": "share of modal kinetic energy per stage"},
+            ),
         },
         coords={
             "mode": ("mode", np.arange(1, frequencies.size + 1), {"long_name": "mode number"}),
@@ -212,6 +267,7 @@ def modal_analysis(model: Model) -> xr.Dataset:
                 np.array(model.dof_labels, dtype=object),
                 {"long_name": "reduced degree of freedom"},
             ),
+            "stage": ("stage", np.array(stages, dtype=object), {"long_name": "stage"}),
             "energy_group": (
                 "energy_group",
                 np.array(ENERGY_GROUPS, dtype=object),
