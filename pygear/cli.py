@@ -51,6 +51,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_model_options(modal)
     modal.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     modal.add_argument("--out", type=Path, help="also write modal.nc and figures to this directory")
+    modal.add_argument(
+        "--compare-stage", metavar="STAGE", help="also compare STAGE alone with it in the gearbox"
+    )
 
     matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
     _add_model_options(matrices)
@@ -179,12 +182,33 @@ def _modal(args: argparse.Namespace) -> int:
     elapsed = time.perf_counter() - started
     if args.out:
         write_modal_outputs(case, None, model, modal, args.out, f"modal_{model.formulation}")
+    summary = {**_modal_summary(modal), "wall_s": elapsed}
+    if args.compare_stage:
+        from .modal import stage_comparison
+
+        comparison = stage_comparison(case, args.compare_stage, model.formulation)
+        summary["stage_comparison"] = {
+            str(c): {
+                "in_gearbox_hz": _finite_list(comparison.in_gearbox.sel(mode_class=c).values),
+                "independent_hz": _finite_list(comparison.independent.sel(mode_class=c).values),
+            }
+            for c in comparison.mode_class.values
+        }
     if args.json:
-        print(json.dumps({**_modal_summary(modal), "wall_s": elapsed}))
-    else:
-        _print_modal_table(modal)
-        print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
+        print(json.dumps(summary))
+        return 0
+    _print_modal_table(modal)
+    print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
+    for family, table in summary.get("stage_comparison", {}).items():
+        print(f"{args.compare_stage} {family}: in gearbox / alone [Hz]")
+        for a, b in zip(table["in_gearbox_hz"], table["independent_hz"]):
+            change = f"{(a / b - 1) * 100:+.2f} %" if b > 0 else ""
+            print(f"  {a:>10.1f} {b:>10.1f} {change}")
     return 0
+
+
+def _finite_list(values: np.ndarray) -> list[float]:
+    return [float(v) for v in values if np.isfinite(v)]
 
 
 def _matrices(args: argparse.Namespace) -> int:

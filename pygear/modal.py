@@ -300,3 +300,71 @@ def model_attributes(model: Model) -> dict[str, str | int]:
         "dof_count": model.size,
         "effects": ", ".join(model.effects) or "none",
     }
+
+
+def distinct_frequencies(modal: xr.Dataset, stage: str, mode_class: str) -> np.ndarray:
+    """Distinct natural frequencies of one class within one stage, ascending [Hz]."""
+    chosen = (modal.stage_name.values == stage) & (modal.mode_class.values == mode_class)
+    values: list[float] = []
+    for f in modal.frequency.values[chosen]:
+        if not values or abs(f - values[-1]) > REPEAT_TOLERANCE * max(f, 1.0):
+            values.append(float(f))
+    return np.array(values)
+
+
+def stage_comparison(case, stage_name: str, formulation: str | None = None) -> xr.Dataset:
+    """A stage's frequencies inside the gearbox against the same stage alone (Table 6).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``in_gearbox(mode_class, order)`` and ``independent(mode_class, order)`` [Hz] and
+        their relative difference, for the stage's rotational, translational and planet
+        families.
+    """
+    import dataclasses
+
+    from .assembly import assemble
+
+    stage = case.gearbox.stage(stage_name)
+    alone = dataclasses.replace(
+        case,
+        gearbox=dataclasses.replace(
+            case.gearbox,
+            stages=(stage,),
+            couplings=(),
+            input_dof=None,
+            output_dof=None,
+            rigid_body_modes=1,
+        ),
+        scenes=(),
+    )
+    formulation = formulation or case.formulation
+    in_gearbox = modal_analysis(assemble(case, formulation=formulation))
+    independent = modal_analysis(assemble(alone, formulation=formulation))
+    families = ("rotational", "translational", "planet")
+    pairs = [
+        (
+            distinct_frequencies(in_gearbox, stage_name, c),
+            distinct_frequencies(independent, stage_name, c),
+        )
+        for c in families
+    ]
+    width = max(1, max(max(a.size, b.size) for a, b in pairs))
+    table = np.full((2, len(families), width), np.nan)
+    for k, (a, b) in enumerate(pairs):
+        table[0, k, : a.size] = a
+        table[1, k, : b.size] = b
+    with np.errstate(invalid="ignore", divide="ignore"):
+        difference = np.where(table[1] > 0, table[0] / table[1] - 1, 0.0)
+    dims = ("mode_class", "order")
+    hz = {"units": "Hz"}
+    return xr.Dataset(
+        {
+            "in_gearbox": (dims, table[0], {**hz, "long_name": "natural frequency in the gearbox"}),
+            "independent": (dims, table[1], {**hz, "long_name": "natural frequency alone"}),
+            "relative_difference": (dims, difference, {"units": "1"}),
+        },
+        coords={"mode_class": np.array(families, dtype=object), "order": np.arange(1, width + 1)},
+        attrs={"case": case.name, "stage": stage_name, "formulation": formulation},
+    )

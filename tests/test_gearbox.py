@@ -175,3 +175,45 @@ def test_disconnected_part_is_refused():
         case.gearbox, stages=(case.gearbox.stages[0], free_ring)))
     with pytest.raises(CaseError, match="2 free rigid-body motions, 1 expected"):
         assemble(case)
+
+
+def parallel_only(helix_deg: float) -> Case:
+    gearbox_case = load_case(GEARBOX)
+    pair = gearbox_case.gearbox.stage("parallel")
+    held = dataclasses.replace(pair, base_helix_angle_deg=helix_deg,
+                               output_bearing=dataclasses.replace(pair.output_bearing,
+                                                                  torsional=1e7))
+    return Case(name="pair", gearbox=Gearbox(stages=(held,), rigid_body_modes=0))
+
+
+@pytest.mark.parametrize("helix_deg", [0.0, 10.0, 20.0, -20.0])
+def test_helical_mesh_axial_force_under_torque(helix_deg):
+    """Torque T on the input gear: the mesh force N along the contact normal has the
+    tangential part T/r_b and the axial part (T/r_b) tan(beta_b), carried by the axial
+    bearing (static equilibrium, independent of stiffnesses)."""
+    case = parallel_only(helix_deg)
+    model = assemble(case, dof_set="spatial")
+    torque = 100.0
+    load = np.zeros(model.size)
+    load[model.dof_labels.index("parallel.input_gear.theta_z")] = torque
+    q = model.reduction @ np.linalg.solve(model.stiffness, load)
+    pair = case.gearbox.stage("parallel")
+    axial = pair.input_bearing.axial * q[model.full_labels.index("parallel.input_gear.z")]
+    tangential = torque / pair.input_gear.base_radius
+    expected = tangential * np.tan(np.radians(helix_deg))
+    assert abs(axial) == pytest.approx(abs(expected), rel=1e-9, abs=1e-9 * tangential)
+
+
+def test_modal_cli_names_stages_and_compares(capsys):
+    import json
+
+    from pygear.cli import main
+
+    assert main(["modal", str(GEARBOX), "--json", "--compare-stage", "stage2"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert len(result["stage"]) == len(result["frequencies_hz"]) == len(result["mode_class"])
+    assert set(result["stage"]) == {"stage1", "stage2", "parallel"}
+    table = result["stage_comparison"]["translational"]
+    np.testing.assert_allclose(table["in_gearbox_hz"], table["independent_hz"], rtol=1e-9)
+    rotational = result["stage_comparison"]["rotational"]
+    assert rotational["in_gearbox_hz"][1] != pytest.approx(rotational["independent_hz"][1])
