@@ -28,9 +28,14 @@ def study_case() -> Case:
     return load_case(CASES / "yang2016_planetary")
 
 
-def consistent_stage(planets: int, *, helix_deg: float = 0.0, axial_position: float = 0.0,
-                     planet_angles_deg: tuple[float, ...] | None = None,
-                     name: str = "stage") -> PlanetaryStage:
+def consistent_stage(
+    planets: int,
+    *,
+    helix_deg: float = 0.0,
+    axial_position: float = 0.0,
+    planet_angles_deg: tuple[float, ...] | None = None,
+    name: str = "stage",
+) -> PlanetaryStage:
     """A stage whose radii satisfy r_bs + r_bp = r_c cos(alpha_s) and
     r_br - r_bp = r_c cos(alpha_r) exactly, with room for up to 8 planets."""
     alpha = math.radians(22.0)

@@ -44,9 +44,25 @@ def test_matrices(tmp_path):
 
 
 def test_sensitivity_sweep(tmp_path, capsys):
-    assert main(["sensitivity", CASE, "--parameter", "planetary.sun_mesh.stiffness",
-                 "--values", "logspace(7,10,4)", "--formulation", "improved", "lin-parker",
-                 "--out", str(tmp_path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "sensitivity",
+                CASE,
+                "--parameter",
+                "planetary.sun_mesh.stiffness",
+                "--values",
+                "logspace(7,10,4)",
+                "--formulation",
+                "improved",
+                "lin-parker",
+                "--out",
+                str(tmp_path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     result = json.loads(capsys.readouterr().out)
     assert result["values"] == pytest.approx([1e7, 1e8, 1e9, 1e10])
     sweep = xr.open_dataset(result["files"][0])
@@ -75,12 +91,25 @@ def test_run_writes_netcdf_and_figures(tmp_path, capsys):
     ("argv", "message"),
     [
         (["modal", "no_such_case"], "no case.py found"),
-        (["sensitivity", CASE, "--parameter", "planetary.sun.mass", "--values", "1"],
-         "is not a stiffness of this model"),
-        (["sensitivity", CASE, "--parameter", "planetary.sun_mesh.stiffness", "--values",
-          "logspace(7,x,3)"], "--values"),
-        (["sensitivity", CASE, "--parameter", "planetary.sun_mesh.stiffness", "--values", "-1"],
-         "planetary.sun_mesh.stiffness must be a positive"),
+        (
+            ["sensitivity", CASE, "--parameter", "planetary.sun.mass", "--values", "1"],
+            "is not a stiffness of this model",
+        ),
+        (
+            [
+                "sensitivity",
+                CASE,
+                "--parameter",
+                "planetary.sun_mesh.stiffness",
+                "--values",
+                "logspace(7,x,3)",
+            ],
+            "--values",
+        ),
+        (
+            ["sensitivity", CASE, "--parameter", "planetary.sun_mesh.stiffness", "--values", "-1"],
+            "planetary.sun_mesh.stiffness must be a positive",
+        ),
         (["run", CASE, "--scene", "nothing"], "has no scene 'nothing'"),
     ],
 )
@@ -90,6 +119,10 @@ def test_errors_name_the_parameter(argv, message, capsys, tmp_path):
 
 
 def test_console_script_runs():
-    result = subprocess.run([sys.executable, "-m", "pygear.cli", "modal", CASE, "--json"],
-                            capture_output=True, text=True, check=True)
+    result = subprocess.run(
+        [sys.executable, "-m", "pygear.cli", "modal", CASE, "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     assert json.loads(result.stdout)["mode_class"][0] == "rotational"

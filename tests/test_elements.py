@@ -32,9 +32,13 @@ def rigid_motion(model, stage, translation, rotation) -> np.ndarray:
     centre = np.array([0.0, 0.0, stage.axial_position])
     u_centre = translation + np.cross(rotation, centre)
     central = dict(zip(("x", "y", "z"), u_centre)) | dict(
-        zip(("theta_x", "theta_y", "theta_z"), rotation))
-    put("housing", dict(zip(("x", "y", "z"), translation))
-        | dict(zip(("theta_x", "theta_y", "theta_z"), rotation)))
+        zip(("theta_x", "theta_y", "theta_z"), rotation)
+    )
+    put(
+        "housing",
+        dict(zip(("x", "y", "z"), translation))
+        | dict(zip(("theta_x", "theta_y", "theta_z"), rotation)),
+    )
     for member in ("carrier", "ring", "sun"):
         put(f"{stage.name}.{member}", central)
     for n, psi in enumerate(stage.planet_angles, start=1):
@@ -47,8 +51,12 @@ def rigid_motion(model, stage, translation, rotation) -> np.ndarray:
             values |= {"zeta": u @ radial, "eta": u @ tangential, "theta_z": rotation[2]}
         else:  # the revolution phi carries the turning about the stage axis
             u_in_plane = u - np.cross([0, 0, rotation[2]], position)
-            values |= {"zeta": u_in_plane @ radial, "eta": u_in_plane @ tangential,
-                       "theta_z": 0.0, "phi": rotation[2]}
+            values |= {
+                "zeta": u_in_plane @ radial,
+                "eta": u_in_plane @ tangential,
+                "theta_z": 0.0,
+                "phi": rotation[2],
+            }
         put(f"{stage.name}.planet{n}", values)
     return q
 
@@ -68,8 +76,9 @@ RIGID_MOTIONS = [
 @pytest.mark.parametrize("helix_deg", [0.0, 18.0])
 @pytest.mark.parametrize("motion", RIGID_MOTIONS)
 def test_rigid_body_motion_gives_zero_deflection(formulation, helix_deg, motion):
-    stage = consistent_stage(4, helix_deg=helix_deg, axial_position=0.35,
-                             planet_angles_deg=(0.0, 85.0, 181.0, 273.0))
+    stage = consistent_stage(
+        4, helix_deg=helix_deg, axial_position=0.35, planet_angles_deg=(0.0, 85.0, 181.0, 273.0)
+    )
     model = assemble(case_of(stage), formulation=formulation, dof_set="spatial")
     q = rigid_motion(model, stage, *motion)
     scale = np.abs(q).max()
@@ -138,11 +147,17 @@ def test_null_space_is_the_kinematic_rotation(study_case, formulation):
 def test_planet_mass_formulations_kinetic_energy():
     """The consistent planet mass is the exact kinetic energy of PHYSICS.md 3.1."""
     m, i_t, i_p, r_c = 0.66, 0.7e-3, 1.53e-3, 0.0969
-    translation, rotation, = call("planet_mass_matrix", 2, m, i_t, i_p, r_c)
+    (
+        translation,
+        rotation,
+    ) = call("planet_mass_matrix", 2, m, i_t, i_p, r_c)
     rate = np.array([0.3, -0.7, 0.2, 0.5, -0.4, 1.1, 2.3])  # zeta, eta, z, tilts, spin, phi
     zeta, eta, z, t1, t2, spin, phi = rate
-    energy = 0.5 * m * (zeta**2 + (eta + r_c * phi) ** 2 + z**2) \
-        + 0.5 * i_p * (spin + phi) ** 2 + 0.5 * i_t * (t1**2 + t2**2)
+    energy = (
+        0.5 * m * (zeta**2 + (eta + r_c * phi) ** 2 + z**2)
+        + 0.5 * i_p * (spin + phi) ** 2
+        + 0.5 * i_t * (t1**2 + t2**2)
+    )
     assert 0.5 * rate @ (translation + rotation) @ rate == pytest.approx(energy, rel=1e-14)
     improved = sum(call("planet_mass_matrix", 1, m, i_t, i_p, r_c))
     assert np.allclose(improved, np.diag([m, m, m, i_t, i_t, i_p, m * r_c**2]), rtol=0, atol=0)

@@ -53,8 +53,10 @@ def stage_frequencies(modal, stage, cls):
 def test_gearbox_picks_planar_for_its_spur_stages(gearbox_case):
     model = assemble(gearbox_case)
     assert model.dof_set == "per-stage"
-    assert not any(label.startswith("stage1.") and label.endswith((".z", ".theta_x"))
-                   for label in model.dof_labels)
+    assert not any(
+        label.startswith("stage1.") and label.endswith((".z", ".theta_x"))
+        for label in model.dof_labels
+    )
     assert "parallel.input_gear.z" in model.dof_labels
 
 
@@ -70,8 +72,9 @@ def test_per_stage_pruning_is_exact(gearbox_case):
 def test_stage1_frequencies_in_gearbox(gearbox_modal):
     translational = stage_frequencies(gearbox_modal, "stage1", "translational")
     np.testing.assert_allclose(translational, STAGE1_TRANSLATIONAL, rtol=0.005)
-    np.testing.assert_allclose(stage_frequencies(gearbox_modal, "stage1", "planet"),
-                               STAGE1_PLANET, rtol=0.005)
+    np.testing.assert_allclose(
+        stage_frequencies(gearbox_modal, "stage1", "planet"), STAGE1_PLANET, rtol=0.005
+    )
 
 
 def test_stage_translational_unchanged_rotational_changed(gearbox_case, gearbox_modal):
@@ -79,9 +82,14 @@ def test_stage_translational_unchanged_rotational_changed(gearbox_case, gearbox_
     alone = modal_analysis(assemble(study, formulation="improved", dof_set="planar"))
     np.testing.assert_allclose(
         stage_frequencies(gearbox_modal, "stage2", "translational"),
-        stage_frequencies(alone, "planetary", "translational"), rtol=1e-9)
-    np.testing.assert_allclose(stage_frequencies(gearbox_modal, "stage2", "translational"),
-                               STAGE2_TRANSLATIONAL, rtol=0.005)
+        stage_frequencies(alone, "planetary", "translational"),
+        rtol=1e-9,
+    )
+    np.testing.assert_allclose(
+        stage_frequencies(gearbox_modal, "stage2", "translational"),
+        STAGE2_TRANSLATIONAL,
+        rtol=0.005,
+    )
     in_gearbox = stage_frequencies(gearbox_modal, "stage2", "rotational")
     independent = stage_frequencies(alone, "planetary", "rotational")
     assert in_gearbox[0] == 0.0
@@ -112,33 +120,47 @@ def test_kinematic_null_space_follows_the_ratios(gearbox_case):
     assert value["stage1.sun.theta_z"] / carrier == pytest.approx(ratio, rel=1e-9)
     assert value["stage2.sun.theta_z"] / carrier == pytest.approx(ratio**2, rel=1e-9)
     # equal radii: the parallel pair turns at the same speed in the opposite sense
-    assert value["parallel.output_gear.theta_z"] / carrier == pytest.approx(-ratio**2, rel=1e-9)
+    assert value["parallel.output_gear.theta_z"] / carrier == pytest.approx(-(ratio**2), rel=1e-9)
 
 
 def test_spur_gearbox_planar_equals_spatial():
     first, second = consistent_stage(3, name="one"), consistent_stage(4, name="two")
-    second = dataclasses.replace(second, axial_position=0.4,
-                                 ring_bearing=dataclasses.replace(second.ring_bearing))
-    case = Case(name="spur", gearbox=Gearbox(
-        stages=(first, second),
-        couplings=(RigidLink("one.sun.theta_z", "two.carrier.theta_z"),)))
+    second = dataclasses.replace(
+        second, axial_position=0.4, ring_bearing=dataclasses.replace(second.ring_bearing)
+    )
+    case = Case(
+        name="spur",
+        gearbox=Gearbox(
+            stages=(first, second), couplings=(RigidLink("one.sun.theta_z", "two.carrier.theta_z"),)
+        ),
+    )
     planar = assemble(case)
     assert planar.dof_set == "planar"
     spatial = modal_analysis(assemble(case, dof_set="spatial"))
-    in_plane = spatial.where(spatial.mode_class.isin(["rotational", "translational", "planet"]),
-                             drop=True)
-    np.testing.assert_allclose(in_plane.frequency.values[1:],
-                               modal_analysis(planar).frequency.values[1:], rtol=1e-9)
+    in_plane = spatial.where(
+        spatial.mode_class.isin(["rotational", "translational", "planet"]), drop=True
+    )
+    np.testing.assert_allclose(
+        in_plane.frequency.values[1:], modal_analysis(planar).frequency.values[1:], rtol=1e-9
+    )
 
 
 def rotor_case(**changes) -> Case:
     stage = consistent_stage(3, name="stage")
-    rotor = ShaftInertia("rotor", Body(mass=50.0, polar_inertia=5.0, tilt_inertia=3.0),
-                         Bearing(radial=1e9, axial=1e9, tilt=1e7, torsional=0.0),
-                         axial_position=-0.5)
-    gearbox = Gearbox(stages=(rotor, stage),
-                      couplings=(TorsionalSpring("main_shaft", "rotor.body.theta_z",
-                                                 "stage.carrier.theta_z", stiffness=2e6),))
+    rotor = ShaftInertia(
+        "rotor",
+        Body(mass=50.0, polar_inertia=5.0, tilt_inertia=3.0),
+        Bearing(radial=1e9, axial=1e9, tilt=1e7, torsional=0.0),
+        axial_position=-0.5,
+    )
+    gearbox = Gearbox(
+        stages=(rotor, stage),
+        couplings=(
+            TorsionalSpring(
+                "main_shaft", "rotor.body.theta_z", "stage.carrier.theta_z", stiffness=2e6
+            ),
+        ),
+    )
     return Case(name="rotor", gearbox=dataclasses.replace(gearbox, **changes))
 
 
@@ -154,9 +176,14 @@ def test_rotor_inertia_node_lowers_first_mode():
         ((RigidLink("rotor.body.theta_z", "stage.moon.theta_z"),), "has no member 'moon'"),
         ((RigidLink("rotor.body.theta_z", "stage.sun.spin"),), "has no DOF 'spin'"),
         ((RigidLink("rotor.body.theta_z", "gear9.sun.theta_z"),), "no stage named 'gear9'"),
-        ((RigidLink("rotor.body.theta_z", "stage.carrier.theta_z"),
-          RigidLink("stage.carrier.theta_z", "stage.sun.theta_z", ratio=2.0),
-          RigidLink("stage.sun.theta_z", "rotor.body.theta_z")), "close a loop"),
+        (
+            (
+                RigidLink("rotor.body.theta_z", "stage.carrier.theta_z"),
+                RigidLink("stage.carrier.theta_z", "stage.sun.theta_z", ratio=2.0),
+                RigidLink("stage.sun.theta_z", "rotor.body.theta_z"),
+            ),
+            "close a loop",
+        ),
         ((), "stage 'stage' has no path to the drive"),
     ],
 )
@@ -169,10 +196,12 @@ def test_disconnected_part_is_refused():
     """A ring left free of torque adds a second rigid-body motion."""
     case = rotor_case()
     stage = case.gearbox.stage("stage")
-    free_ring = dataclasses.replace(stage, ring_bearing=dataclasses.replace(
-        stage.ring_bearing, torsional=0.0))
-    case = dataclasses.replace(case, gearbox=dataclasses.replace(
-        case.gearbox, stages=(case.gearbox.stages[0], free_ring)))
+    free_ring = dataclasses.replace(
+        stage, ring_bearing=dataclasses.replace(stage.ring_bearing, torsional=0.0)
+    )
+    case = dataclasses.replace(
+        case, gearbox=dataclasses.replace(case.gearbox, stages=(case.gearbox.stages[0], free_ring))
+    )
     with pytest.raises(CaseError, match="2 free rigid-body motions, 1 expected"):
         assemble(case)
 
@@ -180,9 +209,11 @@ def test_disconnected_part_is_refused():
 def parallel_only(helix_deg: float) -> Case:
     gearbox_case = load_case(GEARBOX)
     pair = gearbox_case.gearbox.stage("parallel")
-    held = dataclasses.replace(pair, base_helix_angle_deg=helix_deg,
-                               output_bearing=dataclasses.replace(pair.output_bearing,
-                                                                  torsional=1e7))
+    held = dataclasses.replace(
+        pair,
+        base_helix_angle_deg=helix_deg,
+        output_bearing=dataclasses.replace(pair.output_bearing, torsional=1e7),
+    )
     return Case(name="pair", gearbox=Gearbox(stages=(held,), rigid_body_modes=0))
 
 

@@ -62,8 +62,9 @@ def test_table2(study_case, formulation):
 def test_improved_differs_from_lin_parker_in_rotation_only(study_case):
     improved = modal_analysis(assemble(study_case, formulation="improved", dof_set="planar"))
     lin_parker = modal_analysis(assemble(study_case, formulation="lin-parker", dof_set="planar"))
-    np.testing.assert_allclose(distinct(improved, "translational")[0],
-                               distinct(lin_parker, "translational")[0], rtol=1e-10)
+    np.testing.assert_allclose(
+        distinct(improved, "translational")[0], distinct(lin_parker, "translational")[0], rtol=1e-10
+    )
     # the paper's rotational differences: 1334 against 1477 Hz, 8045 against 7467 Hz
     rot_i, rot_l = distinct(improved, "rotational")[0], distinct(lin_parker, "rotational")[0]
     assert rot_l[1] / rot_i[1] - 1 > 0.09
@@ -78,9 +79,14 @@ def test_lin_parker_original_example(study_case):
         body = getattr(stage, member)
         radius = stage.carrier.radius if member == "carrier" else body.base_radius
         changes[member] = dataclasses.replace(
-            body, polar_inertia=LIN_PARKER_EQUIVALENT_MASS[member] * radius**2)
-    case = dataclasses.replace(study_case, gearbox=dataclasses.replace(
-        study_case.gearbox, stages=(dataclasses.replace(stage, **changes),)))
+            body, polar_inertia=LIN_PARKER_EQUIVALENT_MASS[member] * radius**2
+        )
+    case = dataclasses.replace(
+        study_case,
+        gearbox=dataclasses.replace(
+            study_case.gearbox, stages=(dataclasses.replace(stage, **changes),)
+        ),
+    )
     modal = modal_analysis(assemble(case, formulation="lin-parker", dof_set="planar"))
     assert_close(distinct(modal, "rotational")[0], LIN_PARKER_ROTATIONAL, 0.001)
     assert_close(distinct(modal, "translational")[0], LIN_PARKER_TRANSLATIONAL, 0.001)
@@ -114,8 +120,9 @@ def shape_properties(model, modal, mode):
     rotation = max(abs(values[c]) for c in central if c.endswith(".theta_z"))
     motion = max(abs(values[c]) for c in central)
     planets = sorted({label.split(".")[1] for label in values if ".planet" in label})
-    per_planet = np.array([[values[f"stage.{p}.{d}"] for d in ("zeta", "eta", "theta_z")]
-                           for p in planets])
+    per_planet = np.array(
+        [[values[f"stage.{p}.{d}"] for d in ("zeta", "eta", "theta_z")] for p in planets]
+    )
     spread = np.abs(per_planet - per_planet[0]).max()
     return translation / scale, rotation / scale, motion / scale, spread / scale
 
@@ -123,8 +130,7 @@ def shape_properties(model, modal, mode):
 @pytest.mark.parametrize("formulation", ["improved", "consistent", "lin-parker"])
 @pytest.mark.parametrize("planets", range(3, 9))
 def test_mode_families_for_equally_spaced_planets(formulation, planets):
-    model = assemble(case_of(consistent_stage(planets)), formulation=formulation,
-                     dof_set="planar")
+    model = assemble(case_of(consistent_stage(planets)), formulation=formulation, dof_set="planar")
     modal = modal_analysis(model)
     rotational, rot_counts = distinct(modal, "rotational")
     translational, trans_counts = distinct(modal, "translational")
@@ -150,13 +156,20 @@ def test_planar_and_spatial_agree_in_plane(study_case):
     for formulation in ("improved", "consistent", "lin-parker"):
         planar = modal_analysis(assemble(study_case, formulation=formulation, dof_set="planar"))
         spatial = modal_analysis(assemble(study_case, formulation=formulation, dof_set="spatial"))
-        in_plane = spatial.where(spatial.mode_class.isin(["rotational", "translational"]),
-                                 drop=True)
+        in_plane = spatial.where(
+            spatial.mode_class.isin(["rotational", "translational"]), drop=True
+        )
         assert in_plane.sizes["mode"] == planar.sizes["mode"]
-        np.testing.assert_allclose(in_plane.frequency.values[1:], planar.frequency.values[1:],
-                                   rtol=1e-9)
-        assert set(spatial.mode_class.values) <= {"rotational", "translational", "axial",
-                                                  "tilting", "planet-out-of-plane"}
+        np.testing.assert_allclose(
+            in_plane.frequency.values[1:], planar.frequency.values[1:], rtol=1e-9
+        )
+        assert set(spatial.mode_class.values) <= {
+            "rotational",
+            "translational",
+            "axial",
+            "tilting",
+            "planet-out-of-plane",
+        }
 
 
 def test_helical_stage_couples_out_of_plane():
@@ -183,10 +196,20 @@ def test_sensitivity_matches_finite_difference(study_case):
     from pygear.case import replace_parameter
 
     step = 1e-4 * 5e8
-    up = modal_analysis(assemble(replace_parameter(study_case, parameter, 5e8 + step),
-                                 formulation="improved", dof_set="planar"))
-    down = modal_analysis(assemble(replace_parameter(study_case, parameter, 5e8 - step),
-                                   formulation="improved", dof_set="planar"))
+    up = modal_analysis(
+        assemble(
+            replace_parameter(study_case, parameter, 5e8 + step),
+            formulation="improved",
+            dof_set="planar",
+        )
+    )
+    down = modal_analysis(
+        assemble(
+            replace_parameter(study_case, parameter, 5e8 - step),
+            formulation="improved",
+            dof_set="planar",
+        )
+    )
     difference = (up.frequency.values - down.frequency.values) / (2 * step)
     analytic = sensitivity.sensitivity.values[:, 0]
     nonzero = sensitivity.frequency.values > 0
@@ -202,8 +225,13 @@ def test_strain_energy_fractions_sum_to_one(study_case):
 
 
 def test_speed_dependent_terms_are_an_effect(study_case):
-    scene = Scene("spinning", formulation="improved", dof_set="planar",
-                  effects=("speed_dependent_planet_terms",), carrier_speed_rpm=120.0)
+    scene = Scene(
+        "spinning",
+        formulation="improved",
+        dof_set="planar",
+        effects=("speed_dependent_planet_terms",),
+        carrier_speed_rpm=120.0,
+    )
     still = modal_analysis(assemble(study_case, formulation="improved", dof_set="planar"))
     spinning_model = assemble(study_case, scene)
     assert spinning_model.gyroscopic is not None

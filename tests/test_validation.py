@@ -52,7 +52,8 @@ def test_teeth_that_cannot_be_assembled(study_case):
         replace_parameter(study_case, "planetary.planets", 4)
     # unequal spacing lifts the rule
     unequal = dataclasses.replace(
-        study_case.gearbox.stages[0], planets=4, planet_angles_deg=(0.0, 87.8, 180.0, 272.2))
+        study_case.gearbox.stages[0], planets=4, planet_angles_deg=(0.0, 87.8, 180.0, 272.2)
+    )
     unequal.validate()
 
 
