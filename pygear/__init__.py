@@ -18,6 +18,7 @@ from .components import (
     ToothDefect,
 )
 from .gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+from .transient_settings import Probe, TorqueLaw, Transient
 
 __version__ = "0.1.0"
 
@@ -36,8 +37,11 @@ __all__ = [
     "TorsionalSpring",
     "PlanetBearing",
     "PlanetaryStage",
+    "Probe",
     "RayleighDamping",
     "Scene",
     "ToothDefect",
+    "TorqueLaw",
+    "Transient",
     "load_case",
 ]

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from .components import CaseError, ToothDefect, require_non_negative
 from .gearbox import Gearbox
+from .transient_settings import Transient
 
 __all__ = [
     "ANALYSES",
@@ -42,10 +43,10 @@ FORMULATIONS = ("improved", "consistent", "lin-parker")
 DOF_SETS = ("spatial", "planar", "torsional")
 """DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
 
-ANALYSES = ("modal", "sensitivity")
+ANALYSES = ("modal", "sensitivity", "transient")
 """Analyses a scene may ask for."""
 
-EFFECTS = ("speed_dependent_planet_terms",)
+EFFECTS = ("speed_dependent_planet_terms", "time_varying_mesh_stiffness", "tooth_separation")
 """Optional effects a scene may call for (PHYSICS.md 7)."""
 
 
@@ -91,6 +92,8 @@ class Scene:
         Tooth defects of this scene, on top of the case's own (a scene's defect on
         the same tooth replaces the case's).  Checked against the gearbox by
         :meth:`Case.validate`.
+    transient : Transient or None
+        Settings of the ``transient`` analysis (time step, laws, probes).
     """
 
     name: str
@@ -100,6 +103,7 @@ class Scene:
     effects: tuple[str, ...] = ()
     carrier_speed_rpm: float = 0.0
     defects: tuple = ()
+    transient: Transient | None = None
 
     def __post_init__(self) -> None:
         if isinstance(self.defects, list):
@@ -114,6 +118,12 @@ class Scene:
             check_choice(f"{path}.effects", effect, EFFECTS)
         if not math.isfinite(self.carrier_speed_rpm):
             raise CaseError(f"{path}.carrier_speed_rpm must be finite")
+        if "transient" in self.analyses and self.transient is None:
+            raise CaseError(f"{path}.transient: the transient analysis needs its settings")
+        if self.transient is not None:
+            if not isinstance(self.transient, Transient):
+                raise CaseError(f"{path}.transient must be a Transient (got {self.transient!r})")
+            self.transient.validate(f"{path}.transient")
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from .kernel import KernelError
 from .modal import modal_analysis
 from .progress import ProgressBar
 from .signal import SignalError
+from .transient import runup_table_text, transient_summary
 
 __all__ = ["main"]
 
@@ -47,6 +48,18 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--formulation", choices=FORMULATIONS, help="override every scene's")
     run.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
     run.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+    run.add_argument(
+        "--checkpoint-every",
+        type=float,
+        metavar="S",
+        help="transient scenes: save the state to DIR/<scene>.checkpoint.npz every S seconds "
+        "of wall time and on Ctrl-C",
+    )
+    run.add_argument(
+        "--resume",
+        action="store_true",
+        help="transient scenes: continue from DIR/<scene>.checkpoint.npz when it exists",
+    )
 
     modal = commands.add_parser("modal", help="natural frequencies and mode classes")
     _add_model_options(modal)
@@ -359,7 +372,9 @@ def _run(args: argparse.Namespace) -> int:
     case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
-    summary = {"case": case.name, "scenes": {}}
+    summary: dict = {"case": case.name, "scenes": {}}
+    transients: dict = {}
+    run_started = time.perf_counter()
     for scene in scenes:
         started = time.perf_counter()
         model = assemble(case, scene, formulation=args.formulation)
@@ -380,6 +395,15 @@ def _run(args: argparse.Namespace) -> int:
                 title=f"Frequency sensitivities of {case.name}",
             )
             entry["files"].append(str(path))
+        if "transient" in scene.analyses:
+            try:
+                dataset, files = _run_transient(case, scene, model, out, args)
+            except KeyboardInterrupt as interrupt:
+                print(f"pygear run: scene {scene.name}: {interrupt}", file=sys.stderr)
+                return 130
+            transients[scene.name] = dataset
+            entry.update(transient_summary(dataset))
+            entry["files"] += [str(p) for p in files]
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
         if not args.json:
@@ -389,9 +413,46 @@ def _run(args: argparse.Namespace) -> int:
             )
             for path in entry["files"]:
                 print(f"  wrote {path}")
+    if len(transients) > 1:
+        summary["files"] = [str(_compare_transients(transients, out))]
+    summary["wall_s"] = time.perf_counter() - run_started
     if args.json:
         print(json.dumps(summary))
+    elif transients:
+        print(runup_table_text(transients))
     return 0
+
+
+def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):
+    """One transient scene: run it with a progress bar and write ``<scene>.nc``."""
+    from .transient import write_transient
+
+    progress = ProgressBar(f"{scene.name}", enabled=not args.json)
+    checkpoint = out / f"{scene.name}.checkpoint.npz"
+    every = args.checkpoint_every
+    if every is not None and not every > 0:
+        raise CaseError(f"--checkpoint-every must be a positive number of seconds (got {every})")
+    return write_transient(
+        case,
+        scene,
+        out,
+        progress=progress,
+        model=model,
+        checkpoint=checkpoint if every is not None else None,
+        checkpoint_every=every or 0.0,
+        resume=checkpoint if args.resume and checkpoint.is_file() else None,
+    )
+
+
+def _compare_transients(transients: dict, out: Path) -> Path:
+    """The speeds of several transient scenes side by side (seed Figure 9)."""
+    from .io import atomic_path
+    from .plots_transient import plot_speeds
+
+    target = out / "transient_speeds.png"
+    with atomic_path(target) as temporary:
+        plot_speeds(list(transients.values()), temporary, format="png")
+    return target
 
 
 if __name__ == "__main__":

@@ -14,8 +14,11 @@ from pygear import (
     Mesh,
     PlanetaryStage,
     PlanetBearing,
+    Probe,
     RayleighDamping,
     Scene,
+    TorqueLaw,
+    Transient,
 )
 
 # Spur study: the paper fixes the axial and tilting DOFs. Their bending inertias and
@@ -67,6 +70,41 @@ stage = PlanetaryStage(
     base_helix_angle_deg=0.0,  # spur (Table 1)
 )
 
+# Run-up (paper section 5.3, Table 3 and Figure 9; PHYSICS.md 6): from rest, a constant
+# drive torque on the carrier; the sun carries the paper's load law (eq. 31), zero until
+# t_s (the first instant the carrier reaches omega_0) and T_L = (T_D/i)(w_sun/(i w_0))^n
+# afterwards, i = 1 + r_br/r_bs.  Equilibrium speeds are means over the last 1 s.
+RUNUP_SPEED_RPM = 120.0  # omega_0 [rpm], paper section 5.3
+DRIVE_TORQUE = 10.0  # T_D [N m], ASSUMED (lost): gives the paper's t_s = 0.156 s (theory)
+LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED (lost; PHYSICS.md 6)
+RUNUP = Transient(
+    duration=5.0,  # s, paper section 5.3
+    time_step=2.5e-5,  # s, paper section 5.3
+    sample_rate=40e3,  # Hz, paper section 5.3
+    integrator="newmark",  # average acceleration (PHYSICS.md 6)
+    # the paper's explicit equivalent load (eq. 25) at its predictor; 'iterate' makes the
+    # mesh term implicit (the predictor diverges at twice this time step)
+    equivalent_load="predictor",
+    input="planetary.carrier.theta_z",
+    output="planetary.sun.theta_z",
+    drive=TorqueLaw.constant(DRIVE_TORQUE),
+    load=TorqueLaw.generator(rated_drive_torque=DRIVE_TORQUE, exponent=LOAD_EXPONENT),
+    speed_reference_rpm=RUNUP_SPEED_RPM,
+    probes=(
+        Probe("speed", "planetary.carrier"),
+        Probe("speed", "planetary.sun"),
+        Probe("speed", "planetary.planet1"),  # spin relative to the carrier
+        Probe("velocity", "planetary.planet1.eta", name="planet1_tangential_velocity"),
+        Probe("acceleration", "planetary.sun.theta_z"),  # seed Figs. 13-14
+        Probe("acceleration", "planetary.ring.y"),  # seed Figs. 10-12
+        Probe("mesh_force", "sun-planet1"),
+        Probe("mesh_force", "ring-planet1"),
+        Probe("drive_torque"),
+        Probe("load_torque"),
+    ),
+    mean_window=1.0,  # s: equilibrium speeds are means over the last 1 s (paper)
+)
+
 case = Case(
     name="yang2016_planetary",
     description="Planetary study case of Yang, Jiang & Han (2016), Table 1",
@@ -79,5 +117,20 @@ case = Case(
         Scene("modal", analyses=("modal",), formulation="improved", dof_set="planar"),
         Scene("modal_lin_parker", analyses=("modal",), formulation="lin-parker", dof_set="planar"),
         Scene("modal_consistent", analyses=("modal",), formulation="consistent", dof_set="planar"),
+        *(
+            Scene(
+                name,
+                analyses=("transient",),
+                formulation=formulation,
+                dof_set="planar",
+                effects=("time_varying_mesh_stiffness",),
+                transient=RUNUP,
+            )
+            for name, formulation in (
+                ("runup", "improved"),
+                ("runup_lin_parker", "lin-parker"),
+                ("runup_consistent", "consistent"),
+            )
+        ),
     ),
 )
