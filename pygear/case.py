@@ -94,6 +94,9 @@ class Scene:
         :meth:`Case.validate`.
     transient : Transient or None
         Settings of the ``transient`` analysis (time step, laws, probes).
+    parameters : mapping of str to value
+        Case parameters this scene changes, by path (``planetary.planet_angles_deg``):
+        a scene of the same gearbox with, say, a planet position error.
     """
 
     name: str
@@ -104,10 +107,13 @@ class Scene:
     carrier_speed_rpm: float = 0.0
     defects: tuple = ()
     transient: Transient | None = None
+    parameters: tuple = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.defects, list):
             object.__setattr__(self, "defects", tuple(self.defects))
+        if isinstance(self.parameters, dict):
+            object.__setattr__(self, "parameters", tuple(sorted(self.parameters.items())))
 
     def validate(self, path: str) -> None:
         check_choice(f"{path}.formulation", self.formulation, FORMULATIONS, allow_none=True)
@@ -174,6 +180,21 @@ class Case:
         for scene in self.scenes:
             scene.validate(f"scenes.{scene.name}")
             validate_defects(self.gearbox, scene.defects, f"scenes.{scene.name}.defects")
+            if scene.parameters:
+                self.for_scene(scene)
+
+    def for_scene(self, scene: Scene) -> Case:
+        """The case as ``scene`` sees it: its parameter changes applied and validated."""
+        if not scene.parameters:
+            return self
+        changed = dataclasses.replace(self, scenes=())
+        for path, value in scene.parameters:
+            try:
+                changed = replace_parameter(changed, path, value)
+            except CaseError as error:
+                raise CaseError(f"scenes.{scene.name}.parameters: {error}") from None
+        object.__setattr__(changed, "scenes", self.scenes)  # validated above, scene by scene
+        return changed
 
     def scene(self, name: str) -> Scene:
         """The scene called ``name``."""

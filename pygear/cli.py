@@ -369,7 +369,7 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    case = load_case(args.case)
+    case = base_case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
     summary: dict = {"case": case.name, "scenes": {}}
@@ -377,6 +377,7 @@ def _run(args: argparse.Namespace) -> int:
     run_started = time.perf_counter()
     for scene in scenes:
         started = time.perf_counter()
+        case = base_case.for_scene(scene)
         model = assemble(case, scene, formulation=args.formulation)
         entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
         if "modal" in scene.analyses:

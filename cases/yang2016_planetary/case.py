@@ -132,5 +132,17 @@ case = Case(
                 ("runup_consistent", "consistent"),
             )
         ),
+        # The symmetric study case excites no translational mode (Parker's selection rule:
+        # equally spaced, in-phase planets); a realistic assembly error does. ASSUMED:
+        # planet 2 placed 0.1 deg off its nominal 120 deg.
+        Scene(
+            "runup_planet_error",
+            analyses=("transient",),
+            formulation="improved",
+            dof_set="planar",
+            effects=("time_varying_mesh_stiffness",),
+            transient=RUNUP,
+            parameters={"planetary.planet_angles_deg": (0.0, 120.1, 240.0)},
+        ),
     ),
 )

@@ -1,0 +1,104 @@
+"""Signal analysis of the study case's run-up (VALIDATION.md, Spectra; seed section 5.4).
+
+The transient runs 5 s in about 0.3 s, so these are ordinary tests."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pygear import load_case
+from pygear.assembly import assemble
+from pygear.modal import modal_analysis
+from pygear.peaks import find_peaks
+from pygear.signal import amplitude_spectrum, demodulated_resonance
+from pygear.transient import run_transient
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
+RING_TEETH = 96  # Table 1
+SECOND_ROTATIONAL_HZ = 1334.0  # VALIDATION.md, improved model
+
+
+@pytest.fixture(scope="module")
+def case():
+    return load_case(CASE)
+
+
+@pytest.fixture(scope="module")
+def runs(case):
+    return {
+        name: run_transient(case.for_scene(case.scene(name)), case.scene(name))
+        for name in ("runup", "runup_planet_error")
+    }
+
+
+def mesh_frequency(run) -> float:
+    """f_m = Z_r (omega_c - omega_r)/2 pi at the equilibrium carrier speed (ring held)."""
+    carrier_rpm = float(run.planetary_carrier_speed.sel(time=slice(4.0, None)).mean())
+    return RING_TEETH * carrier_rpm / 60.0
+
+
+def harmonic_amplitudes(spectrum, fundamental, orders):
+    f, a = spectrum.frequency.values, spectrum.values
+    return np.array(
+        [a[np.abs(f - k * fundamental) <= 0.005 * k * fundamental].max() for k in orders]
+    )
+
+
+def test_harmonic_resonance_of_the_sun(runs):
+    """The mesh harmonic nearest the 1334 Hz rotational mode dominates harmonics 1-11."""
+    run = runs["runup"]
+    f_m = mesh_frequency(run)
+    spectrum = amplitude_spectrum(
+        run.planetary_sun_theta_z_acceleration, after=1.0, remove_mean=True
+    )
+    amplitudes = harmonic_amplitudes(spectrum, f_m, range(1, 12))
+    strongest = 1 + int(np.argmax(amplitudes))
+    nearest = int(round(SECOND_ROTATIONAL_HZ / f_m))
+    assert strongest == nearest == 7
+    assert abs(7 * f_m / SECOND_ROTATIONAL_HZ - 1) < 0.01  # about 1330 Hz
+
+
+def rms_after(channel, start=1.0):
+    values = channel.sel(time=slice(start, None)).values
+    return float(np.sqrt(np.mean(values**2)))
+
+
+def test_symmetric_ring_is_quiet(runs):
+    """Parker's selection rule: equally spaced, in-phase planets excite no translation."""
+    symmetric = rms_after(runs["runup"].planetary_ring_y_acceleration)
+    error = rms_after(runs["runup_planet_error"].planetary_ring_y_acceleration)
+    assert symmetric < 0.01 * error
+
+
+def test_planet_error_dra_shows_mesh_harmonics(runs):
+    run = runs["runup_planet_error"]
+    f_m = mesh_frequency(run)
+    dra = demodulated_resonance(run.planetary_ring_y_acceleration, (5000.0, 10000.0), after=1.0)
+    f, a = dra.frequency.values, dra.values
+    low = (f > 0.25 * f_m) & (f < 2000.0)
+    assert abs(f[low][np.argmax(a[low])] / f_m - 1) < 0.005  # the mesh frequency leads
+    amplitudes = harmonic_amplitudes(dra, f_m, range(1, 6))
+    floor = np.median(a[low])
+    assert np.sum(amplitudes[1:] > 10 * floor) >= 2  # and at least two harmonics stand out
+
+
+def test_planet_error_spectrum_labels(runs, case):
+    run = runs["runup_planet_error"]
+    scene = case.scene("runup_planet_error")
+    natural = modal_analysis(assemble(case.for_scene(scene), scene))
+    spectrum = amplitude_spectrum(run.planetary_ring_y_acceleration, after=1.0, remove_mean=True)
+    peaks = find_peaks(
+        spectrum,
+        15,
+        natural_frequencies=natural,
+        mesh_frequency=mesh_frequency(run),
+        min_frequency=5.0,
+    )
+    near_translational = peaks[
+        peaks.identification.str.startswith("mesh harmonic")
+        & peaks.near_natural_frequency.str.contains("translational")
+    ]
+    assert len(near_translational) >= 1
