@@ -43,7 +43,7 @@ FORMULATIONS = ("improved", "consistent", "lin-parker")
 DOF_SETS = ("spatial", "planar", "torsional")
 """DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
 
-ANALYSES = ("modal", "sensitivity", "transient")
+ANALYSES = ("modal", "sensitivity", "transient", "signal")
 """Analyses a scene may ask for."""
 
 EFFECTS = ("speed_dependent_planet_terms", "time_varying_mesh_stiffness", "tooth_separation")
@@ -124,6 +124,8 @@ class Scene:
             check_choice(f"{path}.effects", effect, EFFECTS)
         if not math.isfinite(self.carrier_speed_rpm):
             raise CaseError(f"{path}.carrier_speed_rpm must be finite")
+        if "signal" in self.analyses and "transient" not in self.analyses:
+            raise CaseError(f"{path}.analyses: 'signal' analyses a run, so it needs 'transient'")
         if "transient" in self.analyses and self.transient is None:
             raise CaseError(f"{path}.transient: the transient analysis needs its settings")
         if self.transient is not None:

@@ -308,47 +308,85 @@ def _sensitivity(args: argparse.Namespace) -> int:
 def _analyze(args: argparse.Namespace) -> int:
     import xarray as xr
 
-    from .analyze import analyze_channel
     from .peaks import peak_table_text
-    from .plots_signal import plot_run_analysis
 
     if not args.run.is_file():
         raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     with xr.open_dataset(args.run) as opened:
         run = opened.load()
-    natural = None
+    case, natural = None, None
     if "case" in run.attrs:
         try:
             case = load_case(run.attrs["case"])
-            model = assemble(case, formulation=run.attrs.get("formulation"))
-            natural = modal_analysis(model)
+            natural = modal_analysis(assemble(case, formulation=run.attrs.get("formulation")))
         except CaseError:
-            natural = None  # the case is not at hand: peaks go unnamed
-    mesh_frequency = args.mesh_frequency or run.attrs.get("mesh_frequency_hz")
-    analysis = analyze_channel(
+            case = None  # the case is not at hand: peaks go unnamed
+    stem = args.out or args.run.with_name(args.run.stem)
+    analysis, files = write_signal_analysis(
         run,
-        args.channel,
+        stem,
+        channel=args.channel,
         band=args.band,
         after=args.after,
+        natural=natural,
+        mesh_frequency=args.mesh_frequency or _mesh_frequency(case, run),
+    )
+    if args.json:
+        print(json.dumps({**analysis.summary(), "files": [str(f) for f in files]}))
+        return 0
+    for name, table in analysis.peaks.items():
+        print(peak_table_text(table, title=f"{name} of {analysis.channel}"))
+    print(f"wrote {files[0]} and {files[1]}")
+    return 0
+
+
+def _mesh_frequency(case: Case | None, run) -> float | None:
+    """Ring mesh frequency Z_r n_c/60 of the first planetary stage at the run's mean
+    carrier speed over the last second (ring held), when the run has that channel."""
+    if case is None:
+        return run.attrs.get("mesh_frequency_hz")
+    for stage in case.gearbox.stages:
+        speed = f"{stage.name}_carrier_speed"
+        if getattr(stage, "kind", "") == "planetary" and stage.ring.teeth and speed in run:
+            end = float(run.time[-1])
+            carrier_rpm = float(run[speed].sel(time=slice(end - 1.0, None)).mean())
+            return stage.ring.teeth * carrier_rpm / 60.0
+    return run.attrs.get("mesh_frequency_hz")
+
+
+def write_signal_analysis(
+    run,
+    stem: Path,
+    *,
+    channel=None,
+    band=(5000.0, 10000.0),
+    after=1.0,
+    natural=None,
+    mesh_frequency=None,
+):
+    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and ``.png``."""
+    from .analyze import analyze_channel
+    from .plots_signal import plot_run_analysis
+
+    analysis = analyze_channel(
+        run,
+        channel,
+        band=band,
+        after=after,
         natural_frequencies=natural,
         mesh_frequency=mesh_frequency,
     )
-    stem = args.out or args.run.with_name(f"{args.run.stem}_{analysis.channel}")
+    base = stem.with_name(f"{stem.name}_{analysis.channel}")
     spectra = analysis.spectra.copy()
+    spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
     spectra.attrs["strongest_peaks"] = "; ".join(
         f"{row.frequency_hz:.1f} Hz {row.identification}"
         for row in analysis.peaks["spectrum"].head(5).itertuples()
     )
-    path = write_netcdf(spectra, stem.with_suffix(".nc"), title=f"Spectra of {analysis.channel}")
-    figure = stem.with_suffix(".png")
+    path = write_netcdf(spectra, base.with_suffix(".nc"), title=f"Spectra of {analysis.channel}")
+    figure = base.with_suffix(".png")
     plot_run_analysis(analysis, figure)
-    if args.json:
-        print(json.dumps({**analysis.summary(), "files": [str(path), str(figure)]}))
-        return 0
-    for name, table in analysis.peaks.items():
-        print(peak_table_text(table, title=f"{name} of {analysis.channel}"))
-    print(f"wrote {path} and {figure}")
-    return 0
+    return analysis, [path, figure]
 
 
 def _mesh_stiffness(args: argparse.Namespace) -> int:
@@ -405,6 +443,17 @@ def _run(args: argparse.Namespace) -> int:
             transients[scene.name] = dataset
             entry.update(transient_summary(dataset))
             entry["files"] += [str(p) for p in files]
+            if "signal" in scene.analyses:
+                natural = modal_analysis(model)
+                for channel in _acceleration_channels(dataset):
+                    _, written = write_signal_analysis(
+                        dataset,
+                        out / scene.name,
+                        channel=channel,
+                        natural=natural,
+                        mesh_frequency=_mesh_frequency(case, dataset),
+                    )
+                    entry["files"] += [str(p) for p in written]
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
         if not args.json:
@@ -422,6 +471,14 @@ def _run(args: argparse.Namespace) -> int:
     elif transients:
         print(runup_table_text(transients))
     return 0
+
+
+def _acceleration_channels(dataset) -> list[str]:
+    return [
+        name
+        for name, v in dataset.data_vars.items()
+        if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
+    ]
 
 
 def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):

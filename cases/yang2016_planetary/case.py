@@ -120,7 +120,7 @@ case = Case(
         *(
             Scene(
                 name,
-                analyses=("transient",),
+                analyses=("transient", "signal"),  # signal: seed Figs. 10-14
                 formulation=formulation,
                 dof_set="planar",
                 effects=("time_varying_mesh_stiffness",),
@@ -137,7 +137,7 @@ case = Case(
         # planet 2 placed 0.1 deg off its nominal 120 deg.
         Scene(
             "runup_planet_error",
-            analyses=("transient",),
+            analyses=("transient", "signal"),
             formulation="improved",
             dof_set="planar",
             effects=("time_varying_mesh_stiffness",),
