@@ -46,6 +46,9 @@ DOF_SETS = ("spatial", "planar", "torsional")
 ANALYSES = ("modal", "sensitivity", "transient", "signal")
 """Analyses a scene may ask for."""
 
+SIGNAL_AFTER = 1.0
+"""Start-up the 'signal' analysis of a run skips [s] (the paper analyses t > 1 s)."""
+
 EFFECTS = ("speed_dependent_planet_terms", "time_varying_mesh_stiffness", "tooth_separation")
 """Optional effects a scene may call for (PHYSICS.md 7)."""
 
@@ -126,6 +129,12 @@ class Scene:
             raise CaseError(f"{path}.carrier_speed_rpm must be finite")
         if "signal" in self.analyses and "transient" not in self.analyses:
             raise CaseError(f"{path}.analyses: 'signal' analyses a run, so it needs 'transient'")
+        if "signal" in self.analyses and self.transient is not None:
+            if self.transient.duration <= SIGNAL_AFTER + 0.1:
+                raise CaseError(
+                    f"{path}.transient.duration must exceed {SIGNAL_AFTER + 0.1:g} s for the "
+                    f"'signal' analysis, which skips the first {SIGNAL_AFTER:g} s of start-up"
+                )
         if "transient" in self.analyses and self.transient is None:
             raise CaseError(f"{path}.transient: the transient analysis needs its settings")
         if self.transient is not None:

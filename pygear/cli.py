@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .assembly import assemble
-from .case import DOF_SETS, FORMULATIONS, Case, Scene, load_case
+from .case import DOF_SETS, FORMULATIONS, SIGNAL_AFTER, Case, Scene, load_case
 from .components import CaseError
 from .io import write_netcdf
 from .kernel import KernelError
@@ -450,6 +450,7 @@ def _run(args: argparse.Namespace) -> int:
                         dataset,
                         out / scene.name,
                         channel=channel,
+                        after=SIGNAL_AFTER,
                         natural=natural,
                         mesh_frequency=_mesh_frequency(case, dataset),
                     )

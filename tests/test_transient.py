@@ -288,7 +288,9 @@ def _short_scene(case, time_step: float, mode: str, duration: float = 0.3, **ext
         mean_window=0.05,
         **extra,
     )
-    return dataclasses.replace(case.scene("runup"), name=f"short_{mode}", transient=settings)
+    return dataclasses.replace(
+        case.scene("runup"), name=f"short_{mode}", transient=settings, analyses=("transient",)
+    )
 
 
 @pytest.fixture(scope="module")
