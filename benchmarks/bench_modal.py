@@ -37,14 +37,32 @@ def main() -> None:
     baseline = median_seconds(lambda: scipy.linalg.eigh(model.stiffness, model.mass), 200)
     rows = [("eigh(K, M) alone (baseline)", baseline)]
     for dof_set in ("planar", "spatial"):
-        rows.append((f"assemble, {dof_set}", median_seconds(
-            lambda d=dof_set: assemble(case, formulation="improved", dof_set=d), 50)))
-        rows.append((f"assemble + modal analysis, {dof_set}", median_seconds(
-            lambda d=dof_set: modal_analysis(assemble(case, formulation="improved", dof_set=d)),
-            50)))
+        rows.append(
+            (
+                f"assemble, {dof_set}",
+                median_seconds(
+                    lambda d=dof_set: assemble(case, formulation="improved", dof_set=d), 50
+                ),
+            )
+        )
+        rows.append(
+            (
+                f"assemble + modal analysis, {dof_set}",
+                median_seconds(
+                    lambda d=dof_set: modal_analysis(
+                        assemble(case, formulation="improved", dof_set=d)
+                    ),
+                    50,
+                ),
+            )
+        )
     command = [sys.executable, "-m", "pygear.cli", "modal", str(CASE), "--json"]
-    rows.append(("`pygear modal --json` process", median_seconds(
-        lambda: subprocess.run(command, check=True, capture_output=True), 5)))
+    rows.append(
+        (
+            "`pygear modal --json` process",
+            median_seconds(lambda: subprocess.run(command, check=True, capture_output=True), 5),
+        )
+    )
     print(f"{'what':<40} {'median [ms]':>12} {'x baseline':>11}")
     for name, seconds in rows:
         print(f"{name:<40} {seconds * 1e3:>12.2f} {seconds / baseline:>11.1f}")

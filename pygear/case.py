@@ -289,7 +289,7 @@ def get_parameter(case: Case, path: str) -> object:
     """Value of a dotted parameter path such as ``planetary.sun_mesh.stiffness``."""
     parts = path.split(".")
     target: object = _resolve_root(case, parts[0], path)
-    for part in parts[1:]:
+    for part in parts if target is case else parts[1:]:
         if not dataclasses.is_dataclass(target) or not hasattr(target, part):
             raise CaseError(
                 f"parameter {path!r}: {part!r} is not a field of {type(target).__name__}"

@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from .assembly import assemble
+from .batch import HANDLERS as BATCH_HANDLERS
+from .batch import add_parsers as add_batch_parsers
 from .case import DOF_SETS, FORMULATIONS, SIGNAL_AFTER, Case, Scene, load_case
 from .components import CaseError
 from .io import write_netcdf
@@ -122,6 +124,7 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("--speed", type=float, default=120.0, help="carrier speed [rpm]")
     mesh.add_argument("--duration", type=float, help="length [s] (default: 5 mesh cycles)")
     mesh.add_argument("--out", type=Path, required=True, help="target .nc file (figure beside)")
+    add_batch_parsers(commands)
     return parser
 
 
@@ -135,6 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         "sensitivity": _sensitivity,
         "mesh-stiffness": _mesh_stiffness,
         "analyze": _analyze,
+        **BATCH_HANDLERS,
     }[args.command]
     try:
         return handler(args)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import functools
 import os
 import subprocess
 import tempfile
@@ -20,6 +21,7 @@ from . import __version__
 __all__ = ["atomic_path", "source_string", "write_netcdf"]
 
 
+@functools.lru_cache(maxsize=1)
 def source_string() -> str:
     """``pygear <version>`` plus the git revision of the source tree when known."""
     root = Path(__file__).resolve().parent.parent

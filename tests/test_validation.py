@@ -27,7 +27,7 @@ from pygear.case import replace_parameter
         ("planetary.ring_mesh.stiffness", -5e8, "planetary.ring_mesh.stiffness"),
         ("planetary.planets", 0, "planetary.planets must be a whole number >= 1"),
         ("planetary.planets", 2.5, "planetary.planets must be a whole number"),
-        ("damping.mass_coefficient", -0.1, "damping.mass_coefficient"),
+        ("damping.mass_coefficient", -0.1, "damping.mass_coefficient must be a finite number >= 0"),
         ("formulation", "lumped", "formulation must be one of improved, consistent, lin-parker"),
     ],
 )
