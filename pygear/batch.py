@@ -49,6 +49,7 @@ SUMMARY_COLUMNS = (
     "dof_set",
     "dofs",
     "lowest_hz",
+    "t_s",
     "files",
     "error",
 )
@@ -59,7 +60,7 @@ SUMMARY_NAME = "batch_summary.csv"
 
 
 def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
-    from .cli import write_modal_outputs  # the code path of `pygear run`
+    from .outputs import write_modal_outputs  # the code path of `pygear run`
 
     modal = modal_analysis(model)
     with task_files():
@@ -86,11 +87,39 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> d
     return {"files": [str(path)]}
 
 
+def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    """The scene's transient as `pygear run` writes it, and its signal analysis."""
+    from .case import SIGNAL_AFTER
+    from .outputs import acceleration_channels, mesh_frequency, write_signal_analysis
+    from .transient import transient_summary, write_transient
+
+    with task_files():
+        dataset, files = write_transient(case, scene, out, model=model)
+        if "signal" in scene.analyses:
+            natural = modal_analysis(model)
+            for channel in acceleration_channels(dataset):
+                _, written = write_signal_analysis(
+                    dataset,
+                    out / scene.name,
+                    channel=channel,
+                    after=SIGNAL_AFTER,
+                    natural=natural,
+                    mesh_frequency=mesh_frequency(case, dataset),
+                )
+                files = [*files, *written]
+    summary = transient_summary(dataset)
+    return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
+
+
+def _after_transient(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    return {}  # 'signal' runs inside the transient's task, on its dataset
+
+
 SCENE_ANALYSES: dict[str, Callable[[Case, Scene, Model, Path], dict]] = {
     "modal": _modal_outputs,
     "sensitivity": _sensitivity_outputs,
-    # "transient": a function (case, scene, model, out) -> {"files": [...], ...} that
-    # runs the scene's transient as `pygear run` does; registering it is all batch needs.
+    "transient": _transient_outputs,
+    "signal": _after_transient,
 }
 """What a batch writes for each analysis a scene may ask for."""
 

@@ -18,6 +18,12 @@ from .components import CaseError
 from .io import write_netcdf
 from .kernel import KernelError
 from .modal import modal_analysis
+from .outputs import (
+    acceleration_channels,
+    mesh_frequency,
+    write_modal_outputs,
+    write_signal_analysis,
+)
 from .progress import ProgressBar
 from .signal import SignalError
 from .transient import runup_table_text, transient_summary
@@ -181,36 +187,6 @@ def _print_modal_table(modal) -> None:
         print(f"{m:>4}  {f:>14.1f}  {stage}{c + ' ' + str(i):<22} {r:>2}")
 
 
-def write_modal_outputs(
-    case: Case, scene: Scene | None, model, modal, directory: Path, stem: str
-) -> list[Path]:
-    """Write ``<stem>.nc`` and the modal figures into ``directory``."""
-    from .plots import plot_modal_energy, plot_mode_shape
-
-    directory.mkdir(parents=True, exist_ok=True)
-    written = [
-        write_netcdf(
-            modal,
-            directory / f"{stem}.nc",
-            input_hash=case.input_hash(),
-            title=f"Modal analysis of {case.name} ({model.formulation})",
-        )
-    ]
-    energy = directory / f"{stem}_energy.png"
-    plot_modal_energy(modal, energy)
-    written.append(energy)
-    rotational = [
-        m
-        for m, (c, i) in enumerate(zip(modal.mode_class.values, modal.class_index.values))
-        if c == "rotational" and i == 2
-    ]
-    if rotational and case.gearbox.stages[0].kind == "planetary":
-        shape = directory / f"{stem}_mode_shape.png"
-        plot_mode_shape(case, model, modal, rotational[0], shape)
-        written.append(shape)
-    return written
-
-
 def _modal(args: argparse.Namespace) -> int:
     case = load_case(args.case)
     started = time.perf_counter()
@@ -333,7 +309,7 @@ def _analyze(args: argparse.Namespace) -> int:
         band=args.band,
         after=args.after,
         natural=natural,
-        mesh_frequency=args.mesh_frequency or _mesh_frequency(case, run),
+        mesh_frequency=args.mesh_frequency or mesh_frequency(case, run),
     )
     if args.json:
         print(json.dumps({**analysis.summary(), "files": [str(f) for f in files]}))
@@ -342,55 +318,6 @@ def _analyze(args: argparse.Namespace) -> int:
         print(peak_table_text(table, title=f"{name} of {analysis.channel}"))
     print(f"wrote {files[0]} and {files[1]}")
     return 0
-
-
-def _mesh_frequency(case: Case | None, run) -> float | None:
-    """Ring mesh frequency Z_r n_c/60 of the first planetary stage at the run's mean
-    carrier speed over the last second (ring held), when the run has that channel."""
-    if case is None:
-        return run.attrs.get("mesh_frequency_hz")
-    for stage in case.gearbox.stages:
-        speed = f"{stage.name}_carrier_speed"
-        if getattr(stage, "kind", "") == "planetary" and stage.ring.teeth and speed in run:
-            end = float(run.time[-1])
-            carrier_rpm = float(run[speed].sel(time=slice(end - 1.0, None)).mean())
-            return stage.ring.teeth * carrier_rpm / 60.0
-    return run.attrs.get("mesh_frequency_hz")
-
-
-def write_signal_analysis(
-    run,
-    stem: Path,
-    *,
-    channel=None,
-    band=(5000.0, 10000.0),
-    after=1.0,
-    natural=None,
-    mesh_frequency=None,
-):
-    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and ``.png``."""
-    from .analyze import analyze_channel
-    from .plots_signal import plot_run_analysis
-
-    analysis = analyze_channel(
-        run,
-        channel,
-        band=band,
-        after=after,
-        natural_frequencies=natural,
-        mesh_frequency=mesh_frequency,
-    )
-    base = stem.with_name(f"{stem.name}_{analysis.channel}")
-    spectra = analysis.spectra.copy()
-    spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
-    spectra.attrs["strongest_peaks"] = "; ".join(
-        f"{row.frequency_hz:.1f} Hz {row.identification}"
-        for row in analysis.peaks["spectrum"].head(5).itertuples()
-    )
-    path = write_netcdf(spectra, base.with_suffix(".nc"), title=f"Spectra of {analysis.channel}")
-    figure = base.with_suffix(".png")
-    plot_run_analysis(analysis, figure)
-    return analysis, [path, figure]
 
 
 def _mesh_stiffness(args: argparse.Namespace) -> int:
@@ -449,14 +376,14 @@ def _run(args: argparse.Namespace) -> int:
             entry["files"] += [str(p) for p in files]
             if "signal" in scene.analyses:
                 natural = modal_analysis(model)
-                for channel in _acceleration_channels(dataset):
+                for channel in acceleration_channels(dataset):
                     _, written = write_signal_analysis(
                         dataset,
                         out / scene.name,
                         channel=channel,
                         after=SIGNAL_AFTER,
                         natural=natural,
-                        mesh_frequency=_mesh_frequency(case, dataset),
+                        mesh_frequency=mesh_frequency(case, dataset),
                     )
                     entry["files"] += [str(p) for p in written]
         entry["wall_s"] = time.perf_counter() - started
@@ -476,14 +403,6 @@ def _run(args: argparse.Namespace) -> int:
     elif transients:
         print(runup_table_text(transients))
     return 0
-
-
-def _acceleration_channels(dataset) -> list[str]:
-    return [
-        name
-        for name, v in dataset.data_vars.items()
-        if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
-    ]
 
 
 def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):

@@ -235,12 +235,36 @@ def _sensitivity_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
     return frequency_sensitivity(model)
 
 
+def _transient_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
+    """A run reduced to what a sweep compares: t_s, equilibrium speeds, and the RMS and
+    peak of each mesh force's dynamic part over the averaging window."""
+    from .transient import run_transient
+
+    run = run_transient(case, scene, formulation=model.formulation)
+    window = float(run.attrs.get("mean_window", 1.0))
+    late = run.sel(time=slice(float(run.time[-1]) - window, None))
+    result = run[["t_s", "equilibrium_speed", "planet_tangential_speed"]]
+    for name, values in late.data_vars.items():
+        if values.dims == ("time",) and name.endswith("mesh_force"):
+            dynamic = values - values.mean()
+            result[f"{name}_rms"] = np.sqrt((dynamic**2).mean()).assign_attrs(
+                units="N", long_name=f"RMS of the dynamic part of {name} (last {window:g} s)"
+            )
+            result[f"{name}_peak"] = (
+                abs(dynamic)
+                .max()
+                .assign_attrs(
+                    units="N", long_name=f"peak of the dynamic part of {name} (last {window:g} s)"
+                )
+            )
+    return result
+
+
 POINT_ANALYSES: dict[str, Callable[[Case, Scene, Model], xr.Dataset]] = {
     "modal": _modal_point,
     "sensitivity": _sensitivity_point,
-    # "transient": a function (case, scene, model) -> Dataset that runs the scene's
-    # transient and reduces it to per-point results (e.g. the dynamic mesh-force factor
-    # of every mesh); registering it here is all a transient sweep needs.
+    "transient": _transient_point,
+    "signal": lambda case, scene, model: xr.Dataset(),  # a sweep keeps no spectra
 }
 """What a sweep point computes for each analysis a scene may ask for."""
 

@@ -1,0 +1,105 @@
+"""Files a scene writes: modal results and figures, signal analyses of a run.
+
+Shared by ``pygear run`` and batch runs, so both write the same files.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .case import Case, Scene
+from .io import write_netcdf
+
+__all__ = [
+    "acceleration_channels",
+    "mesh_frequency",
+    "write_modal_outputs",
+    "write_signal_analysis",
+]
+
+
+def write_modal_outputs(
+    case: Case, scene: Scene | None, model, modal, directory: Path, stem: str
+) -> list[Path]:
+    """Write ``<stem>.nc`` and the modal figures into ``directory``."""
+    from .plots import plot_modal_energy, plot_mode_shape
+
+    directory.mkdir(parents=True, exist_ok=True)
+    written = [
+        write_netcdf(
+            modal,
+            directory / f"{stem}.nc",
+            input_hash=case.input_hash(),
+            title=f"Modal analysis of {case.name} ({model.formulation})",
+        )
+    ]
+    energy = directory / f"{stem}_energy.png"
+    plot_modal_energy(modal, energy)
+    written.append(energy)
+    rotational = [
+        m
+        for m, (c, i) in enumerate(zip(modal.mode_class.values, modal.class_index.values))
+        if c == "rotational" and i == 2
+    ]
+    if rotational and case.gearbox.stages[0].kind == "planetary":
+        shape = directory / f"{stem}_mode_shape.png"
+        plot_mode_shape(case, model, modal, rotational[0], shape)
+        written.append(shape)
+    return written
+
+
+def mesh_frequency(case: Case | None, run) -> float | None:
+    """Ring mesh frequency Z_r n_c/60 of the first planetary stage at the run's mean
+    carrier speed over the last second (ring held), when the run has that channel."""
+    if case is None:
+        return run.attrs.get("mesh_frequency_hz")
+    for stage in case.gearbox.stages:
+        speed = f"{stage.name}_carrier_speed"
+        if getattr(stage, "kind", "") == "planetary" and stage.ring.teeth and speed in run:
+            end = float(run.time[-1])
+            carrier_rpm = float(run[speed].sel(time=slice(end - 1.0, None)).mean())
+            return stage.ring.teeth * carrier_rpm / 60.0
+    return run.attrs.get("mesh_frequency_hz")
+
+
+def write_signal_analysis(
+    run,
+    stem: Path,
+    *,
+    channel=None,
+    band=(5000.0, 10000.0),
+    after=1.0,
+    natural=None,
+    mesh_frequency=None,
+):
+    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and ``.png``."""
+    from .analyze import analyze_channel
+    from .plots_signal import plot_run_analysis
+
+    analysis = analyze_channel(
+        run,
+        channel,
+        band=band,
+        after=after,
+        natural_frequencies=natural,
+        mesh_frequency=mesh_frequency,
+    )
+    base = stem.with_name(f"{stem.name}_{analysis.channel}")
+    spectra = analysis.spectra.copy()
+    spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
+    spectra.attrs["strongest_peaks"] = "; ".join(
+        f"{row.frequency_hz:.1f} Hz {row.identification}"
+        for row in analysis.peaks["spectrum"].head(5).itertuples()
+    )
+    path = write_netcdf(spectra, base.with_suffix(".nc"), title=f"Spectra of {analysis.channel}")
+    figure = base.with_suffix(".png")
+    plot_run_analysis(analysis, figure)
+    return analysis, [path, figure]
+
+
+def acceleration_channels(dataset) -> list[str]:
+    return [
+        name
+        for name, v in dataset.data_vars.items()
+        if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
+    ]
