@@ -42,7 +42,9 @@ PARAMETER = "planetary.sun_mesh.stiffness"
 
 
 def values(n: int) -> str:
-    return f"logspace(7,10,{n})"
+    # +-40 % around the study case's 5e8 N/m: the run-up's explicit mesh-stiffness load is
+    # stable there at the paper's time step (stiffer meshes need 'iterate' or a smaller step)
+    return f"linspace(3e8,7e8,{n})"
 
 
 def median_seconds(function, repeats: int) -> float:
