@@ -89,24 +89,13 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> d
 
 def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
     """The scene's transient as `pygear run` writes it, and its signal analysis."""
-    from .case import SIGNAL_AFTER
-    from .outputs import acceleration_channels, mesh_frequency, write_signal_analysis
+    from .outputs import write_run_signals
     from .transient import transient_summary, write_transient
 
     with task_files():
         dataset, files = write_transient(case, scene, out, model=model)
         if "signal" in scene.analyses:
-            natural = modal_analysis(model)
-            for channel in acceleration_channels(dataset):
-                _, written = write_signal_analysis(
-                    dataset,
-                    out / scene.name,
-                    channel=channel,
-                    after=SIGNAL_AFTER,
-                    natural=natural,
-                    mesh_frequency=mesh_frequency(case, dataset),
-                )
-                files = [*files, *written]
+            files = [*files, *write_run_signals(case, model, dataset, out, scene.name)]
     summary = transient_summary(dataset)
     return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
 

@@ -13,15 +13,15 @@ import numpy as np
 from .assembly import assemble
 from .batch import HANDLERS as BATCH_HANDLERS
 from .batch import add_parsers as add_batch_parsers
-from .case import DOF_SETS, FORMULATIONS, SIGNAL_AFTER, Case, Scene, load_case
+from .case import DOF_SETS, FORMULATIONS, Case, Scene, load_case
 from .components import CaseError
 from .io import write_netcdf
 from .kernel import KernelError
 from .modal import modal_analysis
 from .outputs import (
-    acceleration_channels,
     mesh_frequency,
     write_modal_outputs,
+    write_run_signals,
     write_signal_analysis,
 )
 from .progress import ProgressBar
@@ -375,17 +375,8 @@ def _run(args: argparse.Namespace) -> int:
             entry.update(transient_summary(dataset))
             entry["files"] += [str(p) for p in files]
             if "signal" in scene.analyses:
-                natural = modal_analysis(model)
-                for channel in acceleration_channels(dataset):
-                    _, written = write_signal_analysis(
-                        dataset,
-                        out / scene.name,
-                        channel=channel,
-                        after=SIGNAL_AFTER,
-                        natural=natural,
-                        mesh_frequency=mesh_frequency(case, dataset),
-                    )
-                    entry["files"] += [str(p) for p in written]
+                written = write_run_signals(case, model, dataset, out, scene.name)
+                entry["files"] += [str(p) for p in written]
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
         if not args.json:

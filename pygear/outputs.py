@@ -11,6 +11,7 @@ from .case import Case, Scene
 from .io import write_netcdf
 
 __all__ = [
+    "write_run_signals",
     "acceleration_channels",
     "mesh_frequency",
     "write_modal_outputs",
@@ -103,3 +104,23 @@ def acceleration_channels(dataset) -> list[str]:
         for name, v in dataset.data_vars.items()
         if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
     ]
+
+
+def write_run_signals(case: Case, model, dataset, directory: Path, stem: str) -> list[Path]:
+    """Signal analysis of every acceleration channel of a run, after the start-up."""
+    from .case import SIGNAL_AFTER
+    from .modal import modal_analysis
+
+    natural = modal_analysis(model)
+    files: list[Path] = []
+    for channel in acceleration_channels(dataset):
+        _, written = write_signal_analysis(
+            dataset,
+            directory / stem,
+            channel=channel,
+            after=SIGNAL_AFTER,
+            natural=natural,
+            mesh_frequency=mesh_frequency(case, dataset),
+        )
+        files += written
+    return files
