@@ -159,6 +159,12 @@ def transient_problem(
     ratio = math.nan
     if load is not None and load.kind == "generator":
         ratio = load.ratio or _kinematic_ratio(case, model, input_label, output_label)
+        if ratio < 0:
+            raise CaseError(
+                f"{path}.load: the generator law needs an output that turns with the input; "
+                f"{output_label} turns against {input_label} (kinematic ratio {ratio:.4g}); "
+                "a reversing output is not supported yet"
+            )
     omega_0 = (settings.speed_reference_rpm or 0.0) / RPM_PER_RAD_S
     direction = settings.drive.direction() if settings.drive is not None else 1
 
