@@ -24,10 +24,10 @@ import argparse
 import dataclasses
 import math
 import statistics
-import time
 import timeit
 
 import numpy as np
+from timing import median_seconds
 
 from pygear import _kernel
 from pygear.assembly import assemble
@@ -80,16 +80,6 @@ def states(table: ContactTable, count: int) -> np.ndarray:
     speed = np.array([ratio * omega_c if g[0].endswith("sun") else omega_c for g in table.gears])
     time_ = 4.0 + np.arange(count) / 40_000.0
     return np.outer(time_, speed)
-
-
-def median_time(function, repeats: int) -> float:
-    function()
-    samples = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        samples.append(time.perf_counter() - start)
-    return statistics.median(samples)
 
 
 def main() -> None:
@@ -145,7 +135,9 @@ def main() -> None:
             / (loops // 4)
             * 1e6
         )
-        series = median_time(lambda table=table, theta=theta: table.series(theta), args.repeats)
+        series = median_seconds(
+            lambda table=table, theta=theta: table.series(theta), args.repeats, warm_up=True
+        )
 
         print(f"\n{name}")
         print(

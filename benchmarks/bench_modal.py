@@ -7,28 +7,18 @@ the same matrices as the baseline measured in the same run.
 
 from __future__ import annotations
 
-import statistics
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import scipy.linalg
+from timing import median_seconds
 
 from pygear import load_case
 from pygear.assembly import assemble
 from pygear.modal import modal_analysis
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
-
-
-def median_seconds(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def main() -> None:

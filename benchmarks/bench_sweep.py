@@ -18,12 +18,11 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
-import statistics
 import tempfile
-import time
 from pathlib import Path
 
 from distributed import LocalCluster
+from timing import median_seconds
 
 from pygear import load_case
 from pygear.assembly import assemble
@@ -45,15 +44,6 @@ def values(n: int) -> str:
     # +-40 % around the study case's 5e8 N/m: the run-up's explicit mesh-stiffness load is
     # stable there at the paper's time step (stiffer meshes need 'iterate' or a smaller step)
     return f"linspace(3e8,7e8,{n})"
-
-
-def median_seconds(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def serial_per_point(case, scene: str | None, n: int, repeats: int) -> tuple[float, float]:
