@@ -82,7 +82,7 @@ contains
     real(dp), intent(in) :: damping_band(kd + 1, n)              !< C [N s/m, N m s/rad]
     real(dp), intent(in) :: stiffness_band(kd + 1, n)            !< K0 [N/m, N m/rad]
     real(dp), intent(in) :: rparam(10)                           !< real settings (see layout) [SI]
-    integer(ik), intent(in) :: iparam(7)                         !< integer settings (see layout) [-]
+    integer(ik), intent(in) :: iparam(8)                         !< integer settings (see layout) [-]
     integer(ik), intent(in) :: n_mesh                            !< meshes [-]
     integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m in mesh_*(ptr(m)+1 : ptr(m+1)) [-]
     integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
@@ -128,7 +128,7 @@ contains
     real(dp), intent(out) :: khat_band(kd + 1, n)                !< Khat at mean stiffness [N/m]
     real(dp), intent(out) :: khat_factor(kd + 1, n)              !< its Cholesky factor
     real(dp), intent(out) :: rstate(3)                           !< t_s [s], drive and load torque [N m]
-    integer(ik), intent(out) :: istate(7)                        !< counters (see layout) [-]
+    integer(ik), intent(out) :: istate(9)                        !< counters (see layout) [-]
     integer(ik), intent(out) :: bad                              !< offending index for ierr [-]
     integer(ik), intent(out) :: ierr                             !< error code (0 = ok)
     real(dp), allocatable :: work(:, :), rhs(:), delta(:)
@@ -241,6 +241,7 @@ contains
                               contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
                               n_curve, curve, factor_start, n_factor, factor, max_pairs, k, pairs, &
                               loaded, pos, tooth, code)
+        istate(is_contact) = istate(is_contact) + 1
         if (code /= ct_ok) then
           code = nm_err_contact
           return
@@ -276,7 +277,7 @@ contains
     real(dp), intent(in) :: khat_band(kd + 1, n)                 !< Khat at mean stiffness [N/m]
     real(dp), intent(inout) :: khat_factor(kd + 1, n)            !< factor of Khat at k_factored
     real(dp), intent(in) :: rparam(10)                           !< real settings [SI]
-    integer(ik), intent(in) :: iparam(7)                         !< integer settings [-]
+    integer(ik), intent(in) :: iparam(8)                         !< integer settings [-]
     integer(ik), intent(in) :: n_mesh                            !< meshes [-]
     integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m pointers [-]
     integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
@@ -328,7 +329,7 @@ contains
     real(dp), intent(inout) :: k_factored(n_mesh)                !< stiffness in the factor [N/m]
     real(dp), intent(inout) :: velocity_sum(n)                   !< sum of v over the window [m/s, rad/s]
     real(dp), intent(inout) :: rstate(3)                         !< t_s [s], drive, load torque [N m]
-    integer(ik), intent(inout) :: istate(7)                      !< counters (see layout) [-]
+    integer(ik), intent(inout) :: istate(9)                      !< counters (see layout) [-]
     integer(ik), intent(in) :: max_samples                       !< columns of samples [-]
     real(dp), intent(inout) :: samples(n_probe, max_samples)     !< recorded channels [channel units]
     integer(ik), intent(out) :: n_samples                        !< columns written [-]
@@ -337,13 +338,14 @@ contains
 
     real(dp), allocatable :: qt(:), vt(:), r0(:), rhs(:), a_new(:), q_new(:), v_new(:), wc(:), wk(:)
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
-    real(dp), allocatable :: theta(:), position(:, :)
+    real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :)
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
     integer :: info
-    logical :: nonlinear, converged, load_on
+    logical :: nonlinear, converged, load_on, restart
+    real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n_samples = 0
     bad = 0
@@ -374,6 +376,17 @@ contains
     allocate (compression(n_mesh))
     allocate (theta(n_mesh), position(max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, max_pairs, n_mesh))
+    restart = iparam(ip_restart) /= 0 .and. nonlinear .and. iparam(ip_varying) /= 0
+    if (restart) then  ! M's factor for the restarts, once per call
+      allocate (mass_factor(kd + 1, n))
+      mass_factor = mass_band
+      call dpbtrf('L', int(n), int(kd), mass_factor, int(kd) + 1, info)
+      if (info /= 0) then
+        ierr = nm_err_definite
+        bad = int(max(info, 0), ik)
+        return
+      end if
+    end if
 
     if (istate(is_step) == 0) then
       call record(q, v, a)
@@ -407,6 +420,15 @@ contains
       a_new = 0.0_dp
       call evaluate(a_new, .true., drive, load, g)
       if (ierr /= nm_ok) return
+      if (restart) then
+        if (any(abs(k_step - k_used) > rparam(rp_refactor) * mean_stiffness)) then
+          call restart_acceleration()
+          if (ierr /= nm_ok) return
+          a_new = 0.0_dp
+          call evaluate(a_new, .true., drive, load, g)
+          if (ierr /= nm_ok) return
+        end if
+      end if
       refactors = 0
       if (mode == mode_refactor) then
         if (any(abs(k_step - k_factored) > rparam(rp_refactor) * mean_stiffness)) then
@@ -530,6 +552,36 @@ contains
 
   contains
 
+    !> A mesh stiffness jumped between the last step and this one (a tooth pair
+    !> entered or left contact): take the acceleration at t_n from the equation of
+    !> motion with the new stiffness, M (a+ - a) = -sum_m ((k_m - kbar_m) delta_m -
+    !> mesh_var_m) b_m, and rebuild the predictor.  When steps land on the switching
+    !> instants this keeps the trapezoidal rule second order across the jump.
+    subroutine restart_acceleration()
+      integer(ik) :: mm
+      real(dp) :: delta_n
+      rhs = 0.0_dp
+      do mm = 1, n_mesh
+        delta_n = sparse_dot(mm, mesh_ptr, mesh_index, mesh_value, q)
+        call add_sparse(mm, -((k_step(mm) - mean_stiffness(mm)) * delta_n - mesh_var(mm)), &
+                        mesh_ptr, mesh_index, mesh_value, rhs)
+        mesh_var(mm) = (k_step(mm) - mean_stiffness(mm)) * delta_n
+      end do
+      call dpbtrs('L', int(n), int(kd), 1, mass_factor, int(kd) + 1, rhs, int(n), info)
+      if (info /= 0) then
+        ierr = nm_err_solve
+        return
+      end if
+      a = a + rhs
+      k_used = k_step
+      istate(is_restarts) = istate(is_restarts) + 1
+      qt = q + dt * v + (dt * dt * (0.5_dp - beta)) * a
+      vt = v + (dt * (1.0_dp - gamma)) * a
+      r0 = 0.0_dp  ! alpha_m = alpha_f = 0 (checked)
+      call band_multiply(n, kd, damping_band, vt, -1.0_dp, r0)
+      call band_multiply(n, kd, stiffness_band, qt, -1.0_dp, r0)
+    end subroutine restart_acceleration
+
     !> Loads and lagged mesh loads at the state a step-acceleration x gives.  The
     !> table's stiffness is a function of the slow mesh-cycle position: it is
     !> evaluated once per step, at the predictor (first = .true.); the deflections
@@ -566,10 +618,19 @@ contains
           do mm = 1, n_mesh
             theta(mm) = sparse_dot(mm, angle_ptr, angle_index, angle_value, q_new)
           end do
+          if (restart) then
+            ! a switch within a millionth of a step of the step's end counts as on it:
+            ! the step then sees the old stiffness and the next one restarts with the new
+            do mm = 1, n_mesh
+              theta(mm) = theta(mm) - landing * (theta(mm) - &
+                          sparse_dot(mm, angle_ptr, angle_index, angle_value, q))
+            end do
+          end if
           call evaluate_contact(n_mesh, theta, teeth, cycle_sign, tooth_offset, mean_stiffness, &
                                 contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
                                 n_curve, curve, factor_start, n_factor, factor, max_pairs, k_step, &
                                 pairs, loaded, position, tooth, code)
+          istate(is_contact) = istate(is_contact) + 1
           if (code /= ct_ok) then
             ierr = nm_err_contact
             bad = 0

@@ -17,9 +17,9 @@ module newmark_support
   public :: rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, rp_tolerance, rp_refactor, &
             rp_deflection, rp_speed, rp_acceleration
   public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_decimation, ip_window, &
-            ip_refactors
+            ip_refactors, ip_restart
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
-            is_separated
+            is_separated, is_contact, is_restarts
   public :: rs_t_s, rs_drive, rs_load, pico
 
   ! equivalent-load modes (iparam(ip_mode))
@@ -62,10 +62,13 @@ module newmark_support
                         rp_acceleration = 10
   ! iparam layout
   integer, parameter :: ip_mode = 1, ip_iterations = 2, ip_varying = 3, ip_separation = 4, &
-                        ip_decimation = 5, ip_window = 6, ip_refactors = 7
+                        ip_decimation = 5, ip_window = 6, ip_refactors = 7, &
+                        ip_restart = 8  ! restart a at mesh-stiffness jumps (0/1)
   ! istate layout
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
-                        is_max_iterations = 5, is_window = 6, is_separated = 7
+                        is_max_iterations = 5, is_window = 6, is_separated = 7, &
+                        is_contact = 8, &  ! tooth-contact table evaluations
+                        is_restarts = 9    ! acceleration restarts at stiffness jumps
   ! rstate layout
   integer, parameter :: rs_t_s = 1, rs_drive = 2, rs_load = 3
 
@@ -165,7 +168,7 @@ contains
                                  n_table, law_table, bad, ierr)
     integer(ik), intent(in) :: n, kd                     !< DOFs, subdiagonals [-]
     real(dp), intent(in) :: rparam(10)                   !< real settings [SI]
-    integer(ik), intent(in) :: iparam(7)                 !< integer settings [-]
+    integer(ik), intent(in) :: iparam(8)                 !< integer settings [-]
     integer(ik), intent(in) :: n_mesh                    !< meshes [-]
     integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)      !< b pointers [-]
     integer(ik), intent(in) :: n_mesh_nz                 !< b entries [-]
@@ -223,6 +226,15 @@ contains
     end if
     if (iparam(ip_decimation) < 1) then
       bad = 100 + ip_decimation
+      return
+    end if
+    ! a restart solves the equation of motion at a step instant: average acceleration
+    ! only (alpha_m = alpha_f = 0), and not with tooth separation (its zero stiffness
+    ! is a contact state, not a table jump)
+    if (iparam(ip_restart) < 0 .or. iparam(ip_restart) > 1 .or. (iparam(ip_restart) == 1 .and. &
+        (rparam(rp_alpha_m) /= 0.0_dp .or. rparam(rp_alpha_f) /= 0.0_dp .or. &
+         iparam(ip_separation) /= 0))) then
+      bad = 100 + ip_restart
       return
     end if
     if (mesh_ptr(1) /= 0 .or. mesh_ptr(n_mesh + 1) > n_mesh_nz .or. angle_ptr(1) /= 0 .or. &

@@ -22,7 +22,7 @@ subroutine transient_start(n, kd, mass_band, damping_band, stiffness_band, rpara
   real(dp), intent(in) :: damping_band(kd + 1, n)              !< C [N s/m, N m s/rad]
   real(dp), intent(in) :: stiffness_band(kd + 1, n)            !< K0 [N/m, N m/rad]
   real(dp), intent(in) :: rparam(10)                           !< real settings (see layout) [SI]
-  integer(ik), intent(in) :: iparam(7)                         !< integer settings (see layout) [-]
+  integer(ik), intent(in) :: iparam(8)                         !< integer settings (see layout) [-]
   integer(ik), intent(in) :: n_mesh                            !< meshes [-]
   integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m in mesh_*(ptr(m)+1 : ptr(m+1)) [-]
   integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
@@ -68,7 +68,7 @@ subroutine transient_start(n, kd, mass_band, damping_band, stiffness_band, rpara
   real(dp), intent(out) :: khat_band(kd + 1, n)                !< Khat at mean stiffness [N/m]
   real(dp), intent(out) :: khat_factor(kd + 1, n)              !< its Cholesky factor
   real(dp), intent(out) :: rstate(3)                           !< t_s [s], drive and load torque [N m]
-  integer(ik), intent(out) :: istate(7)                        !< counters (see layout) [-]
+  integer(ik), intent(out) :: istate(9)                        !< counters (see layout) [-]
   integer(ik), intent(out) :: bad                              !< offending index for ierr [-]
   integer(ik), intent(out) :: ierr                             !< error code (0 = ok)
   call newmark_start(n, kd, mass_band, damping_band, stiffness_band, rparam, iparam, &
@@ -103,7 +103,7 @@ subroutine transient_advance(n, kd, mass_band, damping_band, stiffness_band, kha
   real(dp), intent(in) :: khat_band(kd + 1, n)                 !< Khat at mean stiffness [N/m]
   real(dp), intent(inout) :: khat_factor(kd + 1, n)            !< factor of Khat at k_factored
   real(dp), intent(in) :: rparam(10)                           !< real settings [SI]
-  integer(ik), intent(in) :: iparam(7)                         !< integer settings [-]
+  integer(ik), intent(in) :: iparam(8)                         !< integer settings [-]
   integer(ik), intent(in) :: n_mesh                            !< meshes [-]
   integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m pointers [-]
   integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
@@ -155,7 +155,7 @@ subroutine transient_advance(n, kd, mass_band, damping_band, stiffness_band, kha
   real(dp), intent(inout) :: k_factored(n_mesh)                !< stiffness in the factor [N/m]
   real(dp), intent(inout) :: velocity_sum(n)                   !< sum of v over the window [m/s, rad/s]
   real(dp), intent(inout) :: rstate(3)                         !< t_s [s], drive, load torque [N m]
-  integer(ik), intent(inout) :: istate(7)                      !< counters (see layout) [-]
+  integer(ik), intent(inout) :: istate(9)                      !< counters (see layout) [-]
   integer(ik), intent(in) :: max_samples                       !< columns of samples [-]
   real(dp), intent(inout) :: samples(n_probe, max_samples)     !< recorded channels [channel units]
   integer(ik), intent(out) :: n_samples                        !< columns written [-]

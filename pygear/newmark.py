@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -24,15 +25,19 @@ import scipy.sparse
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from . import _kernel
+from .newmark_rebase import RigidRebase
 from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
     IPARAM_LAYOUT,
     ISTATE_LAYOUT,
     LAW_CODES,
     PROBE_CODES,
+    GrowthDiagnostic,
+    PhysicalInstabilityError,
     TransientError,
     TransientInterrupted,
     deferred_interrupt,
+    growth_diagnostic,
     kernel_error,
     load_checkpoint,
     save_checkpoint,
@@ -45,12 +50,15 @@ __all__ = [
     "LAW_CODES",
     "PROBE_CODES",
     "BandedNewmark",
+    "GrowthDiagnostic",
     "KernelProbe",
     "LawArrays",
     "MeshTerms",
+    "PhysicalInstabilityError",
     "RunResult",
     "TransientError",
     "TransientInterrupted",
+    "growth_diagnostic",
     "scheme_coefficients",
 ]
 
@@ -132,7 +140,9 @@ class RunResult:
     steps : int
         Steps completed.
     counters : dict
-        Iterations, refactors, the most iterations in one step, mesh-steps without force.
+        Iterations, refactors, the most iterations in one step, mesh-steps without force,
+        and tooth-contact table evaluations (``contact_evaluations``: calls of the
+        kernel's table, each for every mesh at once; 0 at constant mesh stiffness).
     solver_wall_s : float
         Wall time spent inside the kernel [s].
     """
@@ -166,6 +176,10 @@ class BandedNewmark:
         Meshes with time-varying stiffness or tooth separation.
     equivalent_load : str
         ``predictor``, ``iterate`` or ``refactor``; ignored without mesh terms.
+    restart_at_jumps : bool
+        When a mesh stiffness jumps by more than ``refactor_threshold`` of its mean
+        between two steps, take the acceleration at the step start from the equation
+        of motion with the new stiffness (average acceleration, no tooth separation).
     drive, load : LawArrays, optional
         Torque on the input member, torque against the output member.
     input_weights, output_weights : ndarray, optional
@@ -191,6 +205,7 @@ class BandedNewmark:
         max_iterations: int = 50,
         refactor_threshold: float = 0.1,
         max_refactors: int = 3,
+        restart_at_jumps: bool = False,
         drive: LawArrays | None = None,
         load: LawArrays | None = None,
         input_weights: np.ndarray | None = None,
@@ -255,6 +270,7 @@ class BandedNewmark:
                 1,
                 0,
                 max_refactors,
+                int(bool(restart_at_jumps)),
             ],
             dtype=np.int32,
         )
@@ -264,6 +280,15 @@ class BandedNewmark:
                 drive or LawArrays(), load or LawArrays(), input_weights, output_weights
             ),
         }
+        table = self.meshes.table if self.meshes is not None and self.meshes.time_varying else None
+        self.rebase = RigidRebase(
+            mass,
+            stiffness,
+            self.order,
+            angle=self.meshes.angle if table is not None else None,
+            cycle_sign=table.cycle_sign if table is not None else None,
+            teeth=table.teeth if table is not None else None,
+        )
 
     # --- set-up ------------------------------------------------------------------------------
 
@@ -372,8 +397,13 @@ class BandedNewmark:
 
     # --- running -----------------------------------------------------------------------------
 
-    def start(self, q0: np.ndarray | None = None, v0: np.ndarray | None = None) -> dict:
-        """Factor Khat and find the initial acceleration; the state of step 0."""
+    def start(
+        self,
+        q0: np.ndarray | None = None,
+        v0: np.ndarray | None = None,
+        a0: np.ndarray | None = None,
+    ) -> dict:
+        """Factor Khat and find the initial acceleration (or take ``a0``); the state of step 0."""
         q0 = np.zeros(self.n) if q0 is None else np.asarray(q0, dtype=np.float64)
         v0 = np.zeros(self.n) if v0 is None else np.asarray(v0, dtype=np.float64)
         out = _kernel.transient_start(
@@ -392,7 +422,7 @@ class BandedNewmark:
         return {
             "q": np.array(q0[self.order], dtype=np.float64),
             "v": np.array(v0[self.order], dtype=np.float64),
-            "a": np.array(a, dtype=np.float64),
+            "a": np.array(a if a0 is None else np.asarray(a0, np.float64)[self.order]),
             "k_used": np.array(k_used, dtype=np.float64),
             "mesh_var": np.array(mesh_var, dtype=np.float64),
             "k_factored": np.array(k_factored, dtype=np.float64),
@@ -412,6 +442,7 @@ class BandedNewmark:
         window_steps: int = 0,
         q0: np.ndarray | None = None,
         v0: np.ndarray | None = None,
+        a0: np.ndarray | None = None,
         progress: Callable[[int, int], None] | None = None,
         chunk_seconds: float = 0.1,
         checkpoint: str | os.PathLike | None = None,
@@ -432,12 +463,16 @@ class BandedNewmark:
             Average the velocities over the last ``window_steps`` steps.
         q0, v0 : ndarray, optional
             Initial state (zero by default).
+        a0 : ndarray, optional
+            Initial acceleration (default: from the equation of motion at t = 0); a state
+            off the equation of motion gives the columns of the amplification matrix.
         progress : callable, optional
             ``progress(done, total)`` after every chunk.
         chunk_seconds : float
             Target wall time of one kernel call [s].
         checkpoint : path, optional
-            Write the whole state here every ``checkpoint_every`` seconds and on Ctrl-C.
+            Write the whole state here every ``checkpoint_every`` seconds and on Ctrl-C
+            or SIGTERM.
         resume : path, optional
             Continue from a checkpoint written by the same settings.
 
@@ -447,7 +482,8 @@ class BandedNewmark:
             The state stopped being finite or a mesh deflection ran away; the
             message names the time, the DOF or mesh and the likely cause.
         TransientInterrupted
-            Ctrl-C; the run stopped between two chunks (state checkpointed if asked).
+            Ctrl-C or SIGTERM; the run stopped between two chunks (state checkpointed
+            if asked).
         """
         if n_steps < 1 or decimation < 1:
             raise ValueError("n_steps and decimation must be >= 1")
@@ -468,24 +504,41 @@ class BandedNewmark:
         if resume is not None:
             state, written = load_checkpoint(resume, key, samples)
         else:
-            state, written = self.start(q0, v0), 0
+            state, written = self.start(q0, v0, a0), 0
+        if "rigid_offset" not in state:
+            state.update(self.rebase.initial_state(self.arguments))
+        rigid_probes = [
+            (p, np.asarray(probe.weights, dtype=np.float64)[self.order])
+            for p, probe in enumerate(probes)
+            if probe.kind == "displacement" and probe.weights is not None and self.rebase.active
+        ]
         step_of = ISTATE_LAYOUT.index("step")
         chunk = max(100, min(20000, n_steps // 50 or 1))
         solver_wall = 0.0
         last_checkpoint = time.perf_counter()
         with deferred_interrupt() as interrupted:
             while state["istate"][step_of] < n_steps:
-                steps = int(min(chunk, n_steps - state["istate"][step_of]))
+                step = int(state["istate"][step_of])
+                steps = self.rebase.aligned_steps(step, int(min(chunk, n_steps - step)))
                 started = time.perf_counter()
                 written_now, bad, ierr = self._advance(
                     state, iparam, probe_args, steps, samples, written
                 )
                 elapsed = time.perf_counter() - started
                 solver_wall += elapsed
+                if rigid_probes and written_now:  # give displacements their rigid rotation
+                    for p, weights in rigid_probes:
+                        offset = self.rebase.probe_offsets(weights, state)
+                        if offset:
+                            samples[p, written : written + written_now] += offset
                 written += written_now
+                self.rebase.apply(state, int(state["istate"][step_of]))
                 if ierr:
                     failed_step = int(state["istate"][step_of]) + 1
-                    raise self._error(ierr, bad, failed_step, "running")
+                    error = self._error(ierr, bad, failed_step, "running")
+                    raise self._physical_growth(
+                        error, ierr, samples[: len(probes), :written], decimation, probes
+                    )
                 chunk = int(max(100, min(10 * chunk, steps * chunk_seconds / max(elapsed, 1e-6))))
                 if progress is not None:
                     try:
@@ -504,9 +557,12 @@ class BandedNewmark:
                 if checkpoint is not None:
                     save_checkpoint(checkpoint, key, state, samples[:, :written], written)
                     where = f"; state saved to {checkpoint}"
+                number = interrupted.signal_number
                 raise TransientInterrupted(
                     f"interrupted at t = {done * self.time_step:.6g} s (step {done} of "
-                    f"{n_steps}){where}; no result file written"
+                    f"{n_steps}) by {signal.Signals(number).name}{where}; no result file "
+                    "written",
+                    number,
                 )
         istate = dict(zip(ISTATE_LAYOUT, (int(x) for x in state["istate"])))
         count = istate["window"]
@@ -519,14 +575,24 @@ class BandedNewmark:
         return RunResult(
             time=np.arange(written) * decimation * self.time_step,
             samples=samples[: len(probes), :written],
-            q=state["q"][unpermute],
+            q=(state["q"] + self.rebase.displacement(state))[unpermute]
+            if self.rebase.active
+            else state["q"][unpermute],
             v=state["v"][unpermute],
             a=state["a"][unpermute],
             mean_velocity=mean,
             t_s=t_s if t_s >= 0 else math.nan,
             steps=istate["step"],
             counters={
-                k: istate[k] for k in ("iterations", "refactors", "max_iterations", "separated")
+                k: istate[k]
+                for k in (
+                    "iterations",
+                    "refactors",
+                    "max_iterations",
+                    "separated",
+                    "contact_evaluations",
+                    "restarts",
+                )
             },
             solver_wall_s=solver_wall,
         )
@@ -552,7 +618,11 @@ class BandedNewmark:
             rstate=state["rstate"],
             istate=state["istate"],
             samples=view,
-            **self.arguments,
+            **{
+                **self.arguments,
+                "phase": state["phase"],
+                "tooth_offset": state["tooth_offset"],
+            },
             **probe_args,
         )
         return int(n_written), int(bad), int(ierr)
@@ -567,6 +637,34 @@ class BandedNewmark:
             digest.update(np.ascontiguousarray(value).tobytes())
         digest.update(repr((n_steps, decimation, window_steps, [p.name for p in probes])).encode())
         return digest.hexdigest()[:16]
+
+    def _physical_growth(
+        self,
+        error: TransientError,
+        ierr: int,
+        samples: np.ndarray,
+        decimation: int,
+        probes: Sequence[KernelProbe],
+    ) -> TransientError:
+        """``error`` as a :class:`PhysicalInstabilityError` when a run that ran away (state not
+        finite, deflection beyond the limit) had grown as a resolved oscillation."""
+        if ierr not in (4, 5) or not probes:
+            return error
+        diagnostic = growth_diagnostic(samples, decimation * self.time_step, self.time_step)
+        if diagnostic is None or not diagnostic.physical:
+            return error
+        stopped = str(error).split("; likely cause", 1)[0]
+        per_period = math.exp(diagnostic.rate / diagnostic.frequency)
+        return PhysicalInstabilityError(
+            f"{stopped}; the response grew physically, not numerically: probe "
+            f"{probes[diagnostic.channel].name} oscillates at {diagnostic.frequency:.6g} Hz "
+            f"({diagnostic.steps_per_period:.0f} steps per period) and grows at "
+            f"{diagnostic.rate:.6g} 1/s (x{per_period:.4g} per period); likely cause: an "
+            f"instability of the model (a mesh frequency near twice a natural frequency, a "
+            f"parametric resonance, or too little damping), which a smaller time_step does "
+            f"not remove",
+            diagnostic,
+        )
 
     def _error(self, ierr: int, bad: int, step: int, phase: str) -> TransientError:
         """The kernel's error code as a message naming time, DOF or mesh and cause."""

@@ -7,6 +7,7 @@ import contextlib
 import signal
 import threading
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +21,13 @@ __all__ = [
     "LAW_CODES",
     "PROBE_CODES",
     "RPARAM_LAYOUT",
+    "INTERRUPT_SIGNALS",
+    "GrowthDiagnostic",
+    "PhysicalInstabilityError",
     "TransientError",
     "TransientInterrupted",
     "deferred_interrupt",
+    "growth_diagnostic",
     "kernel_error",
     "load_checkpoint",
     "save_checkpoint",
@@ -67,6 +72,7 @@ IPARAM_LAYOUT = (
     "decimation",
     "window_first_step",
     "max_refactors",
+    "restart_at_jumps",
 )
 ISTATE_LAYOUT = (
     "step",
@@ -76,6 +82,8 @@ ISTATE_LAYOUT = (
     "max_iterations",
     "window",
     "separated",
+    "contact_evaluations",
+    "restarts",
 )
 
 
@@ -119,8 +127,111 @@ class TransientError(KernelError):
     """A transient run stopped: the message names the time, the DOF or mesh and the cause."""
 
 
+@dataclass(frozen=True)
+class GrowthDiagnostic:
+    """Exponential growth of a recorded response (see :func:`growth_diagnostic`).
+
+    Attributes
+    ----------
+    channel : int
+        Row of the samples that grew most.
+    rate : float
+        Growth rate sigma of the envelope, exp(sigma t) [1/s].
+    frequency : float
+        Frequency of the growing oscillation [Hz].
+    steps_per_period : float
+        Time steps per period of that oscillation [-].
+    physical : bool
+        True when the growth is resolved by the time step (at least
+        ``RESOLVED_STEPS_PER_PERIOD`` steps per period, fewer than one e-fold per
+        period): the model's own (e.g. parametric) instability, which a smaller time
+        step does not remove.  False: an unresolved, numerical growth.
+    """
+
+    channel: int
+    rate: float
+    frequency: float
+    steps_per_period: float
+    physical: bool
+
+
+RESOLVED_STEPS_PER_PERIOD = 10.0
+"""Steps per period from which a growing oscillation counts as resolved (Omega h < 0.63)."""
+
+
+class PhysicalInstabilityError(TransientError):
+    """The response grew physically (resolved by the time step) until it crossed a limit:
+    an instability of the model, such as a parametric resonance of the mesh stiffness,
+    not a failure of the integrator.  ``diagnostic`` holds the measured growth."""
+
+    def __init__(self, message: str, diagnostic: GrowthDiagnostic) -> None:
+        super().__init__(message)
+        self.diagnostic = diagnostic
+
+
+def growth_diagnostic(
+    samples: np.ndarray, sample_interval: float, time_step: float
+) -> GrowthDiagnostic | None:
+    """Growth rate and frequency of the channel that grew most over a record.
+
+    The second half of the record is cut at the zero crossings of the channel; the
+    largest ``|x|`` of each half cycle, fitted by a straight line in log scale, gives
+    the growth rate and the crossing spacing the frequency.
+
+    Parameters
+    ----------
+    samples : ndarray, shape (n_channel, n_sample)
+        Recorded channels (probe samples).
+    sample_interval : float
+        Time between samples [s].
+    time_step : float
+        Integrator step [s].
+
+    Returns
+    -------
+    GrowthDiagnostic or None
+        None when no channel grows through at least 6 zero crossings.
+    """
+    samples = np.atleast_2d(np.asarray(samples, dtype=np.float64))
+    best = None
+    for channel, series in enumerate(samples):
+        tail = series[series.size // 2 :]
+        if not np.isfinite(tail).all():
+            tail = tail[: np.argmin(np.isfinite(tail))]
+        signs = np.sign(tail)
+        crossings = np.nonzero(signs[:-1] * signs[1:] < 0)[0] + 1
+        if crossings.size < 6:
+            continue
+        peaks = [np.max(np.abs(tail[a:b])) for a, b in zip(crossings[:-1], crossings[1:])]
+        times = 0.5 * (crossings[:-1] + crossings[1:]) * sample_interval
+        rate = float(np.polyfit(times, np.log(peaks), 1)[0])
+        period = 2.0 * float(np.mean(np.diff(crossings))) * sample_interval
+        if best is None or rate > best.rate:
+            steps = period / time_step
+            physical = rate > 0 and steps >= RESOLVED_STEPS_PER_PERIOD and rate * period < 1
+            best = GrowthDiagnostic(channel, rate, 1.0 / period, steps, bool(physical))
+    return best
+
+
+INTERRUPT_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM") if hasattr(signal, name)
+)
+"""Signals that stop a run cleanly between chunks: Ctrl-C, and SIGTERM (what a batch
+scheduler such as SLURM sends before it kills a job)."""
+
+
 class TransientInterrupted(KeyboardInterrupt):
-    """Ctrl-C stopped a run between two chunks; no result was written."""
+    """Ctrl-C or SIGTERM stopped a run between two chunks; no result was written.
+
+    Attributes
+    ----------
+    signal_number : int
+        The signal that stopped the run (SIGINT for Ctrl-C or a KeyboardInterrupt).
+    """
+
+    def __init__(self, message: str = "", signal_number: int = signal.SIGINT) -> None:
+        super().__init__(message)
+        self.signal_number = int(signal_number)
 
 
 def kernel_error(
@@ -235,30 +346,43 @@ def table_arguments(table, n_mesh: int) -> dict:
 
 @contextlib.contextmanager
 def deferred_interrupt():
-    """Turn Ctrl-C into a flag checked between chunks (main thread only); a
-    KeyboardInterrupt raised anyway (e.g. by a progress callback) sets it too."""
+    """Turn Ctrl-C and SIGTERM into a flag checked between chunks (main thread only); a
+    KeyboardInterrupt raised anyway (e.g. by a progress callback) sets it too.
+
+    The flag's ``signal_number`` names the signal that set it (SIGINT by default); a
+    second signal stops at once, without a checkpoint.
+    """
     flag = threading.Event()
-    previous = None
+    flag.signal_number = int(signal.SIGINT)
+    previous = {}
     main = threading.current_thread() is threading.main_thread()
     if main:
-        previous = signal.getsignal(signal.SIGINT)
 
         def handler(signum, frame):
-            if flag.is_set():  # a second Ctrl-C: stop now
-                raise KeyboardInterrupt
+            if flag.is_set():  # a second signal: stop now
+                raise TransientInterrupted(
+                    f"interrupted again by {signal.Signals(signum).name}; stopped at once, "
+                    "no checkpoint and no result file written",
+                    signum,
+                )
+            flag.signal_number = int(signum)
             flag.set()
 
-        signal.signal(signal.SIGINT, handler)
+        for number in INTERRUPT_SIGNALS:
+            previous[number] = signal.getsignal(number)
+            signal.signal(number, handler)
     try:
         try:
             yield flag
         except KeyboardInterrupt as error:
             if isinstance(error, TransientInterrupted):
                 raise
-            raise TransientInterrupted("interrupted; no result file written") from None
+            raise TransientInterrupted(
+                "interrupted; no result file written", flag.signal_number
+            ) from None
     finally:
-        if main:
-            signal.signal(signal.SIGINT, previous)
+        for number, handler in previous.items():
+            signal.signal(number, handler)
 
 
 def save_checkpoint(path, key: str, state: dict, samples: np.ndarray, written: int) -> None:

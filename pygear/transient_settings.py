@@ -236,7 +236,13 @@ class Transient:
         Iterations per step before ``iterate`` fails (``refactor`` then refactors).
     refactor_threshold : float
         ``refactor``: refactor when a mesh stiffness moved by more than this share of
-        its mean from the stiffness in the factor [-].
+        its mean from the stiffness in the factor [-].  Also the jump that
+        ``restart_at_jumps`` reacts to.
+    restart_at_jumps : bool
+        Restart the acceleration from the equation of motion when a mesh stiffness
+        jumps between two steps (a tooth pair enters or leaves contact): second order
+        when the steps land on the switching instants (docs/stability.md).  Average
+        acceleration (``newmark``) only, and not with tooth separation.
     input, output : str, optional
         DOF labels of the driven and the loaded member (default: the first stage's
         carrier and sun theta_z).
@@ -268,6 +274,7 @@ class Transient:
     tolerance: float = 1e-8
     max_iterations: int = 50
     refactor_threshold: float = 0.1
+    restart_at_jumps: bool = False
     input: str | None = None
     output: str | None = None
     drive: TorqueLaw | None = None
@@ -343,6 +350,14 @@ class Transient:
         if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):
             raise CaseError(f"{path}.max_iterations must be a whole number >= 1")
         require_non_negative(f"{path}.refactor_threshold", self.refactor_threshold)
+        if not isinstance(self.restart_at_jumps, bool):
+            raise CaseError(f"{path}.restart_at_jumps must be True or False")
+        if self.restart_at_jumps and self.integrator != "newmark":
+            raise CaseError(
+                f"{path}.restart_at_jumps needs integrator 'newmark' (average acceleration): "
+                f"a restart solves the equation of motion at a step instant, which "
+                f"{self.integrator} does not enforce (got integrator {self.integrator!r})"
+            )
         require_positive(f"{path}.mean_window", self.mean_window)
         require_positive(f"{path}.deflection_limit", self.deflection_limit)
         for name in ("drive", "load"):
