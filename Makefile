@@ -28,6 +28,7 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	for script in benchmarks/bench_*.py; do $(PY) $$script || exit 1; done
+	$(PY) benchmarks/bench_newmark.py --case gearbox
 
 clean:
 	rm -rf build out .pytest_cache

@@ -1,7 +1,9 @@
 """Benchmark: cost per step of the banded Newmark kernel against a plain NumPy loop.
 
 On the study case's run-up (18 DOFs, time-varying mesh stiffness, ``predictor``
-equivalent load, the paper's 2.5e-5 s step) this measures, in one run:
+equivalent load, the paper's 2.5e-5 s step), or with ``--case gearbox`` the
+gearbox's (50 DOFs, 15 meshes, the helical pair by its contact-line law, the
+output reversed), this measures, in one run:
 
 * the kernel: microseconds per step inside ``transient_advance`` (chunks of steps
   per call; Python only between chunks), median of ``--repeats`` runs;
@@ -14,7 +16,7 @@ equivalent load, the paper's 2.5e-5 s step) this measures, in one run:
 
 Usage::
 
-    PYTHONPATH=. python benchmarks/bench_newmark.py [--steps 200000] [--repeats 5]
+    PYTHONPATH=. python benchmarks/bench_newmark.py [--case gearbox] [--steps 200000] [--repeats 5]
 """
 
 from __future__ import annotations
@@ -29,15 +31,21 @@ import tracemalloc
 import numpy as np
 
 from pygear import Probe, load_case
-from pygear.transient import transient_problem
+from pygear.contact import LAW_CODES
+from pygear.transient import _kinematic_ratio, transient_problem
 
-SCENE = "runup"
+CASES = {  # case, scene, channels compared with the NumPy loop
+    "study": ("yang2016_planetary", "runup", ("planetary.carrier", "sun-planet1")),
+    "gearbox": ("yang2016_gearbox", "runup_tv", ("stage1.carrier", "stage1.sun-planet1")),
+}
+CASE = "study"
 
 
 def problem_for(steps: int, probes: tuple | None = None):
-    """The study case's run-up scene, cut to ``steps`` steps (optionally other probes)."""
-    case = load_case("yang2016_planetary")
-    scene = case.scene(SCENE)
+    """The case's run-up scene, cut to ``steps`` steps (optionally other probes)."""
+    name, scene_name, _ = CASES[CASE]
+    case = load_case(name)
+    scene = case.scene(scene_name)
     settings = scene.transient
     changes = {"duration": steps * settings.time_step, "mean_window": settings.time_step}
     if probes is not None:
@@ -66,9 +74,13 @@ def numpy_newmark(problem, steps: int) -> dict[str, np.ndarray]:
     sigma, phase = table.cycle_sign.astype(float), table.phase
     eps, lam = table.contact_ratio, table.end_to_peak
     peak = 3 * kbar / (eps * (2 + lam))
+    helical = table.law == LAW_CODES["helical"]
+    transverse = np.where(helical, eps - lam, 1.0)
     offsets = np.arange(table.max_pairs)[:, None]
     w_in = _member(problem, problem.input_label)
     w_out = _member(problem, problem.output_label)
+    if _kinematic_ratio(problem.case, model, problem.input_label, problem.output_label) < 0:
+        w_out = -w_out  # the load law brakes the reversed output
     drive = settings.drive.torque
     ratio = problem.ratio
     omega_0 = settings.speed_reference_rpm * math.pi / 30
@@ -87,7 +99,14 @@ def numpy_newmark(problem, steps: int) -> dict[str, np.ndarray]:
         s = sigma * z1 * (angle @ qt) / (2 * np.pi) + phase
         p = (s - np.floor(s)) + offsets
         x = 2 * p / eps - 1
-        k = np.where(p < eps, peak * (1 - (1 - lam) * x * x), 0.0).sum(axis=0)
+        pair = np.where(
+            helical,
+            kbar
+            * np.minimum(np.minimum(p, eps - p), np.minimum(transverse, lam))
+            / (transverse * lam),
+            peak * (1 - (1 - lam) * x * x),
+        )
+        k = np.where(p < eps, pair, 0.0).sum(axis=0)
         delta = b @ qt
         rhs -= b.T @ ((k - kbar) * delta)
         speed_out = w_out @ vt
@@ -121,12 +140,17 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=200_000, help="kernel steps per run")
     parser.add_argument("--numpy-steps", type=int, default=20_000, help="NumPy steps per run")
     parser.add_argument("--repeats", type=int, default=5, help="repeats (median)")
+    parser.add_argument("--case", choices=sorted(CASES), default="study", help="which run-up")
     args = parser.parse_args()
+    global CASE
+    CASE = args.case
+    speed_channel, force_channel = CASES[CASE][2]
 
     problem = problem_for(args.steps)
     solver = problem.solver
     print(
-        f"study case run-up: {problem.model.size} DOFs, band half-width {solver.bandwidth} "
+        f"{CASES[CASE][0]} {CASES[CASE][1]}: {problem.model.size} DOFs, "
+        f"band half-width {solver.bandwidth} "
         f"(reverse Cuthill-McKee), {solver.meshes.size} meshes, time-varying mesh stiffness, "
         f"equivalent load '{solver.equivalent_load}', dt = {problem.settings.time_step:g} s, "
         f"{len(problem.probes)} probes at 40 kHz"
@@ -160,7 +184,7 @@ def main() -> None:
     reference = numpy_newmark(problem, args.numpy_steps)
     check = problem_for(
         args.numpy_steps,
-        (Probe("speed", "planetary.carrier"), Probe("mesh_force", "sun-planet1")),
+        (Probe("speed", speed_channel), Probe("mesh_force", force_channel)),
     )
     result = kernel_run(check, args.numpy_steps)
     speed_error = np.max(np.abs(result.samples[0, 1:] - reference["carrier"])) / np.max(
@@ -180,7 +204,7 @@ def main() -> None:
         f"{'steps':>8} {'probes':>6} {'peak [MB]':>10} {'probes x samples [MB]':>22} "
         f"{'full state 3 x steps x DOFs [MB]':>33}"
     )
-    few = (Probe("speed", "planetary.carrier"), Probe("speed", "planetary.sun"))
+    few = (Probe("speed", speed_channel),)
     for steps, probes in ((50_000, few), (200_000, few), (200_000, None)):
         measured = problem_for(steps, probes)
         tracemalloc.start()

@@ -24,12 +24,12 @@ module contact_table
   private
 
   public :: evaluate_contact, check_contact_table, pair_stiffness
-  public :: law_parabola, law_tabulated
+  public :: law_parabola, law_tabulated, law_helical
   public :: ct_ok, ct_err_argument, ct_err_option, ct_err_size, ct_err_state
 
   integer(ik), parameter :: law_parabola = 1   !< mean-preserving parabola (PHYSICS.md 5)
   integer(ik), parameter :: law_tabulated = 2  !< tabulated curve, linear interpolation
-  ! A helical contact-length law would be law code 3, one more case in pair_stiffness.
+  integer(ik), parameter :: law_helical = 3    !< helical contact-line length (trapezoid)
 
   integer(ik), parameter :: ct_ok = 0            !< success
   integer(ik), parameter :: ct_err_argument = 1  !< a table entry is out of range
@@ -57,7 +57,7 @@ contains
     integer(ik), intent(in) :: tooth_offset(2, n_mesh)   !< i0, j0: teeth of the pair entering at s = 0 [-]
     real(dp), intent(in) :: mean_stiffness(n_mesh)       !< k-bar, mean over a mesh cycle [N/m]
     real(dp), intent(in) :: contact_ratio(n_mesh)        !< epsilon [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda of the parabola [-]
+    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda (parabola), overlap ratio (helical) [-]
     real(dp), intent(in) :: phase(n_mesh)                !< gamma [mesh cycles]
     integer(ik), intent(in) :: law(n_mesh)               !< single-pair law code [-]
     integer(ik), intent(in) :: curve_start(n_mesh)       !< offset of the mesh's curve in curve [-]
@@ -142,13 +142,18 @@ contains
   !>   samples at p = eps q / (n - 1), q = 0 .. n - 1, normalised by the caller to
   !>   unit mean over [0, eps] (trapezoid rule, exact for the interpolant), so that
   !>   the mean over a mesh cycle is again k-bar.
+  !> law_helical: eps is the total contact ratio eps_a + eps_b and end_to_peak the
+  !>   overlap ratio eps_b.  A helical pair's contact line grows while it enters the
+  !>   face width, stays, and shrinks while it leaves: its length is proportional to
+  !>   min(p, eps - p, eps_a, eps_b), whose integral over [0, eps] is eps_a eps_b, so
+  !>   k = k-bar min(p, eps - p, eps_a, eps_b) / (eps_a eps_b) keeps the mean k-bar.
   pure subroutine pair_stiffness(law, p, mean_stiffness, contact_ratio, end_to_peak, curve, &
                                  k_pair, ierr)
     integer(ik), intent(in) :: law              !< single-pair law code [-]
     real(dp), intent(in) :: p                   !< relative contact position, 0 <= p < eps [mesh cycles]
     real(dp), intent(in) :: mean_stiffness      !< k-bar [N/m]
     real(dp), intent(in) :: contact_ratio       !< epsilon [-]
-    real(dp), intent(in) :: end_to_peak         !< lambda (parabola) [-]
+    real(dp), intent(in) :: end_to_peak         !< lambda (parabola), eps_b (helical) [-]
     real(dp), intent(in) :: curve(:)            !< the mesh's curve samples, unit mean (tabulated) [-]
     real(dp), intent(out) :: k_pair             !< pair stiffness [N/m]
     integer(ik), intent(out) :: ierr            !< error code (0 = ok)
@@ -172,6 +177,10 @@ contains
       q = min(max(int(u), 0), n - 2)
       w = u - real(q, dp)
       k_pair = mean_stiffness / contact_ratio * ((1.0_dp - w) * curve(q + 1) + w * curve(q + 2))
+    case (law_helical)
+      w = contact_ratio - end_to_peak
+      k_pair = mean_stiffness * max(min(p, contact_ratio - p, w, end_to_peak), 0.0_dp) &
+               / (w * end_to_peak)
     case default
       k_pair = 0.0_dp
       ierr = ct_err_option
@@ -190,7 +199,7 @@ contains
     integer(ik), intent(in) :: tooth_offset(2, n_mesh)   !< i0, j0 [-]
     real(dp), intent(in) :: mean_stiffness(n_mesh)       !< k-bar [N/m]
     real(dp), intent(in) :: contact_ratio(n_mesh)        !< epsilon [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda [-]
+    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda, or eps_b (helical) [-]
     real(dp), intent(in) :: phase(n_mesh)                !< gamma [mesh cycles]
     integer(ik), intent(in) :: law(n_mesh)               !< single-pair law code [-]
     integer(ik), intent(in) :: curve_start(n_mesh)       !< curve offsets [-]
@@ -227,6 +236,10 @@ contains
       select case (law(m))
       case (law_parabola)
         if (.not. (end_to_peak(m) > 0.0_dp .and. end_to_peak(m) <= 1.0_dp)) ierr = ct_err_argument
+      case (law_helical)
+        ! eps_b in (0, eps): the transverse ratio eps - eps_b stays positive
+        if (.not. (end_to_peak(m) > 0.0_dp .and. end_to_peak(m) < contact_ratio(m))) &
+          ierr = ct_err_argument
       case (law_tabulated)
         c0 = curve_start(m) + 1
         c1 = curve_start(m) + curve_size(m)

@@ -17,7 +17,7 @@ subroutine contact_table_check(n_mesh, teeth, cycle_sign, tooth_offset, mean_sti
   real(dp), intent(in) :: contact_ratio(n_mesh)       !< epsilon
   real(dp), intent(in) :: end_to_peak(n_mesh)         !< lambda
   real(dp), intent(in) :: phase(n_mesh)               !< gamma [mesh cycles]
-  integer(ik), intent(in) :: law(n_mesh)              !< law code (1 parabola, 2 tabulated)
+  integer(ik), intent(in) :: law(n_mesh)              !< law code (1 parabola, 2 tabulated, 3 helical)
   integer(ik), intent(in) :: curve_start(n_mesh)      !< curve offsets
   integer(ik), intent(in) :: curve_size(n_mesh)       !< curve sample counts
   integer(ik), intent(in) :: n_curve                  !< size of curve

@@ -79,7 +79,7 @@ def analyze_channel(
     band: Sequence[float] = (5000.0, 10000.0),
     after: float = 1.0,
     natural_frequencies: Mapping[str, float] | xr.Dataset | None = None,
-    mesh_frequency: float | None = None,
+    mesh_frequency: float | Mapping[str, float] | None = None,
     carrier_frequency: float | None = None,
     peaks: int = 10,
 ) -> RunAnalysis:
@@ -96,7 +96,8 @@ def analyze_channel(
     after : float
         Start-up to skip [s].
     natural_frequencies, mesh_frequency, carrier_frequency
-        References that name the peaks (modal Dataset or mapping, Hz, Hz).
+        References that name the peaks (modal Dataset or mapping; Hz, or Hz per
+        stage; Hz).
     peaks : int
         Peaks per table.
     """

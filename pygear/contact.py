@@ -25,8 +25,10 @@ from . import _kernel
 from .assembly import Model, assemble
 from .case import Case, Scene, load_case, merged_defects, validate_defects
 from .components import CaseError, PlanetaryStage, ToothDefect
+from .gearbox import ParallelStage
 from .kernel import KernelError
 from .mesh_phasing import stage_phasing
+from .probes import dof_row, rigid_rotation
 
 __all__ = [
     "LAW_CODES",
@@ -37,8 +39,8 @@ __all__ = [
     "write_mesh_stiffness",
 ]
 
-LAW_CODES = {"parabola": 1, "tabulated": 2}
-"""Single-pair law codes of the Fortran module (a helical contact-length law would be 3)."""
+LAW_CODES = {"parabola": 1, "tabulated": 2, "helical": 3}
+"""Single-pair law codes of the Fortran module."""
 
 DEFAULT_CYCLES = 5
 """Mesh cycles the constant-speed run covers by default (without defects)."""
@@ -252,40 +254,27 @@ def build_contact_table(
     rows = []
     curves: list[np.ndarray] = []
     curve_offset = 0
+    parallel_sense = _parallel_senses(case, model)
     for mesh in model.meshes:
         stage = case.gearbox.stage(mesh.stage)
-        if stage.name not in phasing:
-            phasing[stage.name] = stage_phasing(stage, direction=direction, sun_driven=sun_driven)
-        central = mesh.name.split("-", 1)[0]
-        component = getattr(stage, f"{central}_mesh")
-        phase = phasing[stage.name][mesh.name]
+        prefix = f"{stage.name}." if several else ""
+        if isinstance(stage, ParallelStage):
+            row = _parallel_row(stage, mesh, direction * parallel_sense[stage.name])
+            component = stage.mesh
+        else:
+            if stage.name not in phasing:
+                phasing[stage.name] = stage_phasing(
+                    stage, direction=direction, sun_driven=sun_driven
+                )
+            row = _planetary_row(stage, mesh, phasing[stage.name][mesh.name], direction)
+            component = getattr(stage, f"{row['central']}_mesh")
+        row["name"] = prefix + mesh.name
         if component.stiffness_curve is not None:
             curve = _normalised_curve(component.stiffness_curve)
-            law, start, size = LAW_CODES["tabulated"], curve_offset, len(curve)
+            row.update(law=LAW_CODES["tabulated"], start=curve_offset, size=len(curve))
             curves.append(curve)
             curve_offset += len(curve)
-        else:
-            law, start, size = LAW_CODES["parabola"], 0, 0
-        rows.append(
-            dict(
-                name=f"{stage.name}.{mesh.name}" if several else mesh.name,
-                gears=(f"{stage.name}.{central}", f"{stage.name}.planet{mesh.planet}"),
-                angles=(
-                    (f"{stage.name}.sun", f"{stage.name}.carrier")
-                    if central == "sun"
-                    else (f"{stage.name}.carrier", f"{stage.name}.ring")
-                ),
-                teeth=(getattr(stage, central).teeth, stage.planet.teeth),
-                offset=(phase.gear_1_offset, phase.gear_2_offset),
-                mean=mesh.mean_stiffness,
-                ratio=mesh.contact_ratio,
-                lam=mesh.end_to_peak,
-                phase=phase.phase,
-                law=law,
-                start=start,
-                size=size,
-            )
-        )
+        rows.append(row)
     factor_start, factor = _pack_factors(case, rows, defects)
     ratios = np.array([r["ratio"] for r in rows], dtype=np.float64)
     table = ContactTable(
@@ -293,7 +282,7 @@ def build_contact_table(
         gears=tuple(r["gears"] for r in rows),
         angles=tuple(r["angles"] for r in rows),
         teeth=np.asfortranarray(np.array([r["teeth"] for r in rows], dtype=np.int32).T),
-        cycle_sign=np.full(len(rows), direction, dtype=np.int32),
+        cycle_sign=np.array([r["sign"] for r in rows], dtype=np.int32),
         tooth_offset=np.asfortranarray(np.array([r["offset"] for r in rows], dtype=np.int32).T),
         mean_stiffness=np.array([r["mean"] for r in rows], dtype=np.float64),
         contact_ratio=ratios,
@@ -310,6 +299,81 @@ def build_contact_table(
     )
     table.check()
     return table
+
+
+def _planetary_row(stage: PlanetaryStage, mesh, phase, direction: int) -> dict:
+    """Table entry of a sun or ring mesh: gear 1 the central member, gear 2 the planet,
+    angle of gear 1 relative to the carrier (PHYSICS.md 5)."""
+    central = mesh.name.split("-", 1)[0]
+    return dict(
+        central=central,
+        gears=(f"{stage.name}.{central}", f"{stage.name}.planet{mesh.planet}"),
+        angles=(
+            (f"{stage.name}.sun", f"{stage.name}.carrier")
+            if central == "sun"
+            else (f"{stage.name}.carrier", f"{stage.name}.ring")
+        ),
+        teeth=(getattr(stage, central).teeth, stage.planet.teeth),
+        offset=(phase.gear_1_offset, phase.gear_2_offset),
+        mean=mesh.mean_stiffness,
+        ratio=mesh.contact_ratio,
+        lam=mesh.end_to_peak,
+        phase=phase.phase,
+        sign=direction,
+        law=LAW_CODES["parabola"],
+        start=0,
+        size=0,
+    )
+
+
+def _parallel_row(stage: ParallelStage, mesh, sign: int) -> dict:
+    """Table entry of a parallel pair: gear 1 the input gear, its absolute rotation as
+    the angle, first teeth in mesh at s = 0.  A helical pair uses the contact-length
+    law over the total contact ratio eps_a + eps_b, a spur pair the parabola."""
+    for member in stage.member_names:
+        teeth = getattr(stage, member).teeth
+        if not (isinstance(teeth, int) and teeth > 0):
+            raise CaseError(
+                f"{stage.name}.{member}.teeth must be a whole number > 0 for the "
+                f"time-varying mesh stiffness (got {teeth!r})"
+            )
+    helical = not stage.spur and stage.overlap_ratio > 0
+    return dict(
+        gears=(f"{stage.name}.input_gear", f"{stage.name}.output_gear"),
+        angles=(f"{stage.name}.input_gear",),
+        teeth=(stage.input_gear.teeth, stage.output_gear.teeth),
+        offset=(0, 0),
+        mean=mesh.mean_stiffness,
+        ratio=mesh.contact_ratio + (stage.overlap_ratio if helical else 0.0),
+        lam=stage.overlap_ratio if helical else mesh.end_to_peak,
+        phase=0.0,
+        sign=sign,
+        law=LAW_CODES["helical" if helical else "parabola"],
+        start=0,
+        size=0,
+    )
+
+
+def _parallel_senses(case: Case, model: Model) -> dict[str, int]:
+    """+1 when a parallel stage's input gear turns with the first planetary stage's
+    sun relative to its carrier in the gearbox's rigid-body rotation, else -1."""
+    stages = [s for s in case.gearbox.stages if isinstance(s, ParallelStage)]
+    if not stages:
+        return {}
+    rigid = rigid_rotation(model)
+    reference = None
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage) and rigid is not None:
+            sun = dof_row(model, f"{stage.name}.sun.theta_z")
+            carrier = dof_row(model, f"{stage.name}.carrier.theta_z")
+            reference = float((sun - carrier) @ rigid)
+            break
+    senses = {}
+    for stage in stages:
+        speed = dof_row(model, f"{stage.name}.input_gear.theta_z")
+        own = float(speed @ rigid) if rigid is not None and speed is not None else 1.0
+        senses[stage.name] = 1 if own * (reference if reference else 1.0) >= 0 else -1
+    return senses
 
 
 def _pack_factors(
@@ -331,10 +395,13 @@ def _pack_factors(
     return np.asfortranarray(start.T.reshape(2, len(rows))), np.concatenate(packed + [np.ones(1)])
 
 
-def _relative_speeds(stage: PlanetaryStage, carrier_speed: float) -> dict[str, float]:
+def _relative_speeds(stage, carrier_speed: float) -> dict[str, float]:
     """d theta_rel / dt of sun and ring meshes at carrier speed [rad/s], ring held,
     from base radii (PHYSICS.md 2): theta_s - theta_c = (r_br / r_bs) omega_c t,
-    theta_c - theta_r = omega_c t."""
+    theta_c - theta_r = omega_c t.  A parallel pair's input gear turns at the speed
+    given, in the sense of the suns relative to their carriers."""
+    if isinstance(stage, ParallelStage):
+        return {"input": abs(carrier_speed)}
     return {
         "sun": stage.ring.base_radius / stage.sun.base_radius * carrier_speed,
         "ring": carrier_speed,
@@ -355,7 +422,8 @@ def mesh_stiffness_at_constant_speed(
 
     Each stage's carrier turns at ``carrier_speed_rpm`` with its ring held, so
     theta_rel = (r_br/r_bs) omega_c t for the sun meshes and omega_c t for the ring
-    meshes (mesh frequency Z_r omega_c / 2 pi).  A negative speed runs the mirror
+    meshes (mesh frequency Z_r omega_c / 2 pi); a parallel pair's input gear turns
+    at ``carrier_speed_rpm`` too.  A negative speed runs the mirror
     image (sigma = -1).
 
     Parameters
@@ -397,10 +465,12 @@ def mesh_stiffness_at_constant_speed(
     direction = 1 if carrier_speed_rpm > 0 else -1
     table = build_contact_table(case, model, scene, direction=direction, sun_driven=sun_driven)
     omega_c = carrier_speed_rpm * math.pi / 30
+    parallel = {s.name for s in case.gearbox.stages if isinstance(s, ParallelStage)}
     speeds = np.array(
         [
             _relative_speeds(case.gearbox.stage(m.stage), omega_c)[m.name.split("-", 1)[0]]
-            for m in model.meshes
+            * (table.cycle_sign[i] if m.stage in parallel else 1)
+            for i, m in enumerate(model.meshes)
         ]
     )
     frequency = table.teeth[0] * np.abs(speeds) / (2 * np.pi)

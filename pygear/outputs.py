@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from .case import Case, Scene
 from .io import write_netcdf
 
@@ -49,18 +51,33 @@ def write_modal_outputs(
     return written
 
 
-def mesh_frequency(case: Case | None, run) -> float | None:
-    """Ring mesh frequency Z_r n_c/60 of the first planetary stage at the run's mean
-    carrier speed over the last second (ring held), when the run has that channel."""
-    if case is None:
+def mesh_frequency(case: Case | None, run) -> float | dict[str, float] | None:
+    """Mesh frequencies of a run at its equilibrium speeds (mean over its last window).
+
+    A planetary stage meshes at Z_r |n_c - n_r| / 60, a parallel pair at Z_1 |n_1| / 60.
+    One stage: a number; several: ``{stage: frequency}`` for the stages with tooth
+    numbers.  Without a case, the run's ``mesh_frequency_hz`` attribute.
+    """
+    if case is None or "equilibrium_speed" not in run:
         return run.attrs.get("mesh_frequency_hz")
-    for stage in case.gearbox.stages:
-        speed = f"{stage.name}_carrier_speed"
-        if getattr(stage, "kind", "") == "planetary" and stage.ring.teeth and speed in run:
-            end = float(run.time[-1])
-            carrier_rpm = float(run[speed].sel(time=slice(end - 1.0, None)).mean())
-            return stage.ring.teeth * carrier_rpm / 60.0
-    return run.attrs.get("mesh_frequency_hz")
+    speeds = dict(zip(run.member.values.tolist(), run.equilibrium_speed.values.tolist()))
+    stages = case.gearbox.stages
+    frequencies = {}
+    for stage in stages:
+        prefix = f"{stage.name}." if len(stages) > 1 else ""
+        kind = getattr(stage, "kind", "")
+        if kind == "planetary" and stage.ring.teeth:
+            relative = speeds.get(prefix + "carrier", np.nan) - speeds.get(prefix + "ring", 0.0)
+            frequencies[stage.name] = stage.ring.teeth * abs(relative) / 60.0
+        elif kind == "parallel" and stage.input_gear.teeth:
+            speed = speeds.get(prefix + "input_gear", np.nan)
+            frequencies[stage.name] = stage.input_gear.teeth * abs(speed) / 60.0
+    frequencies = {k: f for k, f in frequencies.items() if np.isfinite(f) and f > 0}
+    if not frequencies:
+        return run.attrs.get("mesh_frequency_hz")
+    if len(stages) == 1:
+        return next(iter(frequencies.values()))
+    return frequencies
 
 
 def write_signal_analysis(
@@ -87,7 +104,11 @@ def write_signal_analysis(
     )
     base = stem.with_name(f"{stem.name}_{analysis.channel}")
     spectra = analysis.spectra.copy()
-    spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
+    if isinstance(mesh_frequency, dict):
+        spectra.attrs["mesh_frequency_hz"] = list(mesh_frequency.values())
+        spectra.attrs["mesh_frequency_stage"] = list(mesh_frequency)
+    else:
+        spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
     spectra.attrs["strongest_peaks"] = "; ".join(
         f"{row.frequency_hz:.1f} Hz {row.identification}"
         for row in analysis.peaks["spectrum"].head(5).itertuples()

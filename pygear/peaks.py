@@ -95,7 +95,7 @@ def _number_modes(frequencies: np.ndarray, classes: np.ndarray) -> list[_Referen
 
 
 def _mesh_references(
-    mesh_frequency: float | None,
+    mesh_frequency: float | Mapping[str, float] | None,
     mesh_harmonics: int,
     sideband_frequency: float | None,
     sideband_orders: int,
@@ -107,27 +107,31 @@ def _mesh_references(
                 "sideband_frequency: needs mesh_frequency (sidebands are around mesh harmonics)"
             )
         return []
-    for name, value in (
-        ("mesh_frequency", mesh_frequency),
-        ("sideband_frequency", sideband_frequency),
-    ):
+    meshes = dict(mesh_frequency) if isinstance(mesh_frequency, Mapping) else {"": mesh_frequency}
+    named = [
+        (f"mesh_frequency[{key!r}]" if key else "mesh_frequency", f) for key, f in meshes.items()
+    ]
+    for name, value in (*named, ("sideband_frequency", sideband_frequency)):
         if value is not None and not (np.isfinite(value) and value > 0.0):
             raise SignalError(f"{name}: must be a finite frequency > 0, got {value!r}")
     for name, count in (("mesh_harmonics", mesh_harmonics), ("sideband_orders", sideband_orders)):
         if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
             raise SignalError(f"{name}: must be an integer >= 1, got {count!r}")
     references = []
-    for harmonic in range(1, mesh_harmonics + 1):
-        centre = harmonic * mesh_frequency
-        references.append(_Reference(f"mesh harmonic {harmonic}", centre, "mesh harmonic"))
-        if sideband_frequency is None:
-            continue
-        for order in range(1, sideband_orders + 1):
-            for sign, symbol in ((-1, _MINUS), (1, "+")):
-                value = centre + sign * order * sideband_frequency
-                if value > 0.0:
-                    label = f"mesh harmonic {harmonic} {symbol} {order}\u00d7{sideband_name}"
-                    references.append(_Reference(label, value, "sideband"))
+    for key, frequency in meshes.items():
+        prefix = f"{key} " if key else ""
+        for harmonic in range(1, mesh_harmonics + 1):
+            centre = harmonic * frequency
+            label = f"{prefix}mesh harmonic {harmonic}"
+            references.append(_Reference(label, centre, "mesh harmonic"))
+            if sideband_frequency is None:
+                continue
+            for order in range(1, sideband_orders + 1):
+                for sign, symbol in ((-1, _MINUS), (1, "+")):
+                    value = centre + sign * order * sideband_frequency
+                    if value > 0.0:
+                        sideband = f"{label} {symbol} {order}\u00d7{sideband_name}"
+                        references.append(_Reference(sideband, value, "sideband"))
     return references
 
 
@@ -147,7 +151,7 @@ def find_peaks(
     n: int = 10,
     *,
     natural_frequencies: Mapping[str, float] | xr.Dataset | None = None,
-    mesh_frequency: float | None = None,
+    mesh_frequency: float | Mapping[str, float] | None = None,
     mesh_harmonics: int = 20,
     sideband_frequency: float | None = None,
     sideband_orders: int = 3,
@@ -174,8 +178,9 @@ def find_peaks(
         Label -> frequency, e.g. ``{"rotational 2": 1334.0}``, or a modal Dataset
         with ``frequency`` and ``mode_class`` (labelled "<class> <k>", k counting
         distinct frequencies of that class upwards from 1).
-    mesh_frequency : float, optional
-        Mesh frequency; harmonics 1 .. ``mesh_harmonics`` are references.
+    mesh_frequency : float or mapping of str to float, optional
+        Mesh frequency, or one per stage (``{"stage2": 428.1}``, labels
+        "stage2 mesh harmonic 1"); harmonics 1 .. ``mesh_harmonics`` are references.
     mesh_harmonics : int, default 20
         Highest mesh harmonic considered.
     sideband_frequency : float, optional

@@ -47,6 +47,21 @@ def dof_row(model: Model, label: str) -> np.ndarray | None:
     return np.array(model.reduction[index], dtype=np.float64)
 
 
+def rigid_rotation(model: Model) -> np.ndarray | None:
+    """The model's free rigid-body rotation as reduced DOF amplitudes, or None.
+
+    The eigenvector of the lowest eigenvalue of (K0, M) when exactly one eigenvalue
+    is zero (to 1e-8 of the largest); its sign is arbitrary, so callers use ratios.
+    """
+    import scipy.linalg
+
+    values, vectors = scipy.linalg.eigh(model.stiffness, model.mass)
+    zero = np.abs(values) <= 1e-8 * np.abs(values).max()
+    if zero.sum() != 1:
+        return None
+    return vectors[:, int(np.argmax(zero))]
+
+
 def mesh_index(model: Model, name: str) -> int | None:
     """0-based index of a mesh named ``sun-planet1`` or ``stage.sun-planet1``."""
     for m, mesh in enumerate(model.meshes):

@@ -23,8 +23,9 @@ import xarray as xr
 from .assembly import Model, assemble
 from .case import Case, Scene
 from .components import CaseError, PlanetaryStage
+from .effects import effect_attributes
 from .newmark import BandedNewmark, KernelProbe, LawArrays, MeshTerms, RunResult
-from .probes import RPM_PER_RAD_S, compile_probes, dof_row, state_probes
+from .probes import RPM_PER_RAD_S, compile_probes, dof_row, rigid_rotation, state_probes
 from .transient_settings import TorqueLaw, Transient
 
 __all__ = [
@@ -74,8 +75,9 @@ def _member_row(model: Model, label: str, path: str) -> np.ndarray:
 
 
 def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: str) -> float:
-    """Input over output speed: the stage's 1 + r_br/r_bs for its carrier and sun,
-    else the ratio in the model's rigid-body rotation."""
+    """Output over input speed, i of PHYSICS.md 6: the stage's 1 + r_br/r_bs for its
+    carrier and sun, else the ratio in the model's rigid-body rotation (negative when
+    the output turns against the input)."""
     for stage in case.gearbox.stages:
         if isinstance(stage, PlanetaryStage):
             carrier, sun = f"{stage.name}.carrier.theta_z", f"{stage.name}.sun.theta_z"
@@ -83,18 +85,16 @@ def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: s
                 return stage.speed_ratio
             if (input_label, output_label) == (sun, carrier):
                 return 1.0 / stage.speed_ratio
-    import scipy.linalg
-
-    values, vectors = scipy.linalg.eigh(model.stiffness, model.mass)
-    rigid = vectors[:, 0]
-    speed_in = dof_row(model, input_label) @ rigid
-    speed_out = dof_row(model, output_label) @ rigid
-    if abs(speed_out) < 1e-12 * abs(speed_in) or abs(values[0]) > 1e-8 * abs(values).max():
+    rigid = rigid_rotation(model)
+    speed_in = dof_row(model, input_label) @ rigid if rigid is not None else 0.0
+    speed_out = dof_row(model, output_label) @ rigid if rigid is not None else 0.0
+    scale = 1e-9 * np.abs(rigid).max() if rigid is not None else math.inf
+    if not (abs(speed_in) > scale and abs(speed_out) > scale):
         raise CaseError(
             "transient.load.ratio: the input and output are not linked by one rigid-body "
             "rotation; give the generator law its ratio"
         )
-    return float(speed_in / speed_out)
+    return float(speed_out / speed_in)
 
 
 def _law_arrays(law: TorqueLaw | None, ratio: float, speed_reference: float) -> LawArrays:
@@ -151,6 +151,11 @@ def transient_problem(
     effects = tuple(scene.effects)
     varying = "time_varying_mesh_stiffness" in effects
     separation = "tooth_separation" in effects
+    if settings.restart_at_jumps and separation:
+        raise CaseError(
+            f"{path}.restart_at_jumps does not combine with the tooth_separation effect "
+            "(an open contact is a contact state, not a stiffness jump of the table)"
+        )
     input_label = settings.input or _default_member(case, "carrier")
     output_label = settings.output or _default_member(case, "sun")
     input_row = _member_row(model, input_label, f"{path}.input")
@@ -160,11 +165,10 @@ def transient_problem(
     if load is not None and load.kind == "generator":
         ratio = load.ratio or _kinematic_ratio(case, model, input_label, output_label)
         if ratio < 0:
-            raise CaseError(
-                f"{path}.load: the generator law needs an output that turns with the input; "
-                f"{output_label} turns against {input_label} (kinematic ratio {ratio:.4g}); "
-                "a reversing output is not supported yet"
-            )
+            # the output turns against the input: the law acts on its speed along the
+            # input's sense, so it still brakes the output's actual rotation
+            output_row = -output_row
+            ratio = -ratio
     omega_0 = (settings.speed_reference_rpm or 0.0) / RPM_PER_RAD_S
     direction = settings.drive.direction() if settings.drive is not None else 1
 
@@ -187,8 +191,8 @@ def transient_problem(
             table = build_contact_table(
                 case, model, scene, direction=direction, sun_driven=sun_driven
             )
-            for m, (a, b) in enumerate(table.angles):
-                for member, sign in ((a, 1.0), (b, -1.0)):
+            for m, members in enumerate(table.angles):
+                for member, sign in zip(members, (1.0, -1.0)):
                     row = dof_row(model, f"{member}.theta_z")
                     if row is not None:
                         angle[m] += sign * row
@@ -217,6 +221,7 @@ def transient_problem(
         tolerance=settings.tolerance,
         max_iterations=settings.max_iterations,
         refactor_threshold=settings.refactor_threshold,
+        restart_at_jumps=settings.restart_at_jumps,
         drive=_law_arrays(settings.drive, ratio, omega_0),
         load=_law_arrays(load, ratio, omega_0),
         input_weights=input_row,
@@ -386,6 +391,7 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         "mean_window": settings.mean_window,
         "solver_wall_s": result.solver_wall_s,
         **{f"solver_{k}": v for k, v in result.counters.items()},
+        **effect_attributes(model, solver.equivalent_load),  # pygear.effects
     }
     ring = _first_ring_teeth(problem.case)
     if ring and "carrier" in table["speed_rpm"]:
@@ -477,6 +483,11 @@ def runup_table_text(datasets: dict[str, xr.Dataset]) -> str:
         return float(match[0]) if match else math.nan
 
     rows.append(("t_s [s]", [f"{float(datasets[n].t_s):.4f}" for n in names]))
+    members = list(datasets[names[0]].member.values)
+    if "carrier" not in members:  # a gearbox: every member's speed, stage by stage
+        for member in members:
+            rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
+        return _table_text(names, rows)
     for member in ("carrier", "sun", "planet1"):
         rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
     rows.append(
@@ -496,9 +507,15 @@ def runup_table_text(datasets: dict[str, xr.Dataset]) -> str:
             ],
         )
     )
+    return _table_text(names, rows)
+
+
+def _table_text(names: list[str], rows: list[tuple[str, list[str]]]) -> str:
+    label_width = max(26, *(len(label) + 2 for label, _ in rows))
     width = max(12, *(len(n) for n in names))
-    lines = [f"{'':<26}" + "".join(f"{n:>{width + 2}}" for n in names)]
+    lines = [f"{'':<{label_width}}" + "".join(f"{n:>{width + 2}}" for n in names)]
     lines += [
-        f"{label:<26}" + "".join(f"{v:>{width + 2}}" for v in values) for label, values in rows
+        f"{label:<{label_width}}" + "".join(f"{v:>{width + 2}}" for v in values)
+        for label, values in rows
     ]
     return "\n".join(lines)

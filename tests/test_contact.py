@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -584,3 +585,25 @@ def test_write_mesh_stiffness(tmp_path):
         assert back.attrs["Conventions"].startswith("CF")
         assert np.allclose(back.mesh_stiffness.values, data.mesh_stiffness.values)
         assert list(back.mesh.values)[:2] == ["sun-planet1", "ring-planet1"]
+
+
+def test_helical_pair_follows_its_contact_line_length():
+    """A helical pair's stiffness is proportional to its contact-line length: each pair
+    contributes min(p, eps_g - p, eps_a, eps_b) / (eps_a eps_b) k-bar over the total
+    contact ratio eps_g = eps_a + eps_b, so the mean stays k-bar (textbook helical
+    gearing; PHYSICS.md 5)."""
+    case = load_case(Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox")
+    dataset = mesh_stiffness_at_constant_speed(case, carrier_speed_rpm=60.0, duration=0.1)
+    stage = case.gearbox.stages[2]
+    k = dataset.mesh_stiffness.sel(mesh="parallel.input-output").values
+    eps_a, eps_b = stage.mesh.contact_ratio, stage.overlap_ratio
+    eps_g = eps_a + eps_b
+    cycle = stage.input_gear.teeth * (60.0 * math.pi / 30) * dataset.time.values / (2 * math.pi)
+    p = np.mod(cycle, 1.0)[:, None] + np.arange(math.ceil(eps_g) + 1)[None, :]
+    length = np.clip(
+        np.minimum.reduce([p, eps_g - p, np.full_like(p, eps_a), np.full_like(p, eps_b)]), 0, None
+    )
+    expected = stage.mesh.stiffness * length.sum(axis=1) / (eps_a * eps_b)
+    assert np.allclose(k, expected, rtol=1e-9, atol=1e-6 * stage.mesh.stiffness)
+    assert float(dataset.contact_ratio.sel(mesh="parallel.input-output")) == pytest.approx(eps_g)
+    assert k.min() < 0.7 * stage.mesh.stiffness < stage.mesh.stiffness < k.max()

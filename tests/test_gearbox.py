@@ -248,24 +248,3 @@ def test_modal_cli_names_stages_and_compares(capsys):
     np.testing.assert_allclose(table["in_gearbox_hz"], table["independent_hz"], rtol=1e-9)
     rotational = result["stage_comparison"]["rotational"]
     assert rotational["in_gearbox_hz"][1] != pytest.approx(rotational["independent_hz"][1])
-
-
-def test_reversing_output_is_refused_before_the_run(gearbox_case):
-    """The parallel pair reverses the sense of rotation; the generator load law does not
-    handle that yet and must say so before any step is taken."""
-    from pygear import Scene
-    from pygear.transient import run_transient
-    from pygear.transient_settings import TorqueLaw, Transient
-
-    settings = Transient(
-        duration=0.1,
-        time_step=2.5e-5,
-        input="stage1.carrier.theta_z",
-        output="parallel.output_gear.theta_z",
-        drive=TorqueLaw.constant(40.0),
-        load=TorqueLaw.generator(rated_drive_torque=40.0),
-        speed_reference_rpm=60.0,
-    )
-    scene = Scene("runup", analyses=("transient",), transient=settings)
-    with pytest.raises(CaseError, match="turns against stage1.carrier.theta_z"):
-        run_transient(gearbox_case, scene)

@@ -18,10 +18,13 @@ from pygear import (
     Gearbox,
     Mesh,
     ParallelStage,
+    Probe,
     RayleighDamping,
     RigidLink,
     Scene,
+    TorqueLaw,
     TorsionalSpring,
+    Transient,
 )
 
 # The planetary stages reuse the study case's stage unchanged (Table 1).
@@ -53,7 +56,12 @@ parallel_gear = Gear(
     polar_inertia=GEAR_POLAR_INERTIA,
     tilt_inertia=GEAR_POLAR_INERTIA / 2,
     base_radius=GEAR_BASE_RADIUS,
-    teeth=None,  # ASSUMED unknown: the paper gives no tooth numbers for the pair
+    # ASSUMED: the paper gives no tooth numbers for the pair. Table 4's 21.173 deg is the
+    # transverse pressure angle of a 20 deg normal angle at a 20 deg helix, so the
+    # reference radius is r_b / cos(21.173 deg) = 53.6 mm; a normal module of about
+    # 3 mm then gives Z = 2 r cos(20 deg) / m_n = 34 (and an overlap ratio of 0.37
+    # for a 10 mm face width).
+    teeth=34,
 )
 # ASSUMED: Table 4's bearing stiffnesses were lost; the planetary stages' 1e8 N/m
 # radially and axially, and 1e6 N m/rad in tilt; both gears turn freely.
@@ -76,6 +84,49 @@ parallel = ParallelStage(
 # ASSUMED: the coupling spring's stiffness was lost; 1e6 N m/rad is a stiff shaft.
 COUPLING_STIFFNESS = 1e6  # N m/rad
 
+# Run-up (paper section 6, Tables 7 and 8, Figures 18 and 19; PHYSICS.md 6): from rest, a
+# constant drive torque on stage 1's carrier; the parallel stage's output gear carries the
+# load law T_L = (T_D/i)(w_out/(i w_0))^n from t_s on, i = w_out/w_in = -20.73 from the
+# kinematics (the parallel pair reverses the sense; the law brakes the actual rotation).
+RUNUP_SPEED_RPM = 60.0  # omega_0 [rpm]: Tables 7/8 show the first carrier at 59.86 rpm
+# ASSUMED (lost): T_D chosen so that the damped theory of PHYSICS.md 6 gives the paper's
+# t_s = 0.327 s with this file's inertias (J_eq = 4.864 kg m^2 reduced to the input):
+# T_D = alpha J_eq w_0 / (1 - exp(-alpha t_s)).
+DRIVE_TORQUE = 95.5  # N m
+LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED as for the study case (PHYSICS.md 6)
+RUNUP = Transient(
+    duration=4.0,  # s: long enough for t_s, settling and a 1 s averaging window
+    time_step=2.5e-5,  # s, as the paper's study case
+    sample_rate=40e3,  # Hz, as the paper's study case
+    integrator="newmark",  # average acceleration (PHYSICS.md 6)
+    equivalent_load="predictor",  # the paper's explicit mesh term (eq. 25)
+    input="stage1.carrier.theta_z",
+    output="parallel.output_gear.theta_z",
+    drive=TorqueLaw.constant(DRIVE_TORQUE),
+    load=TorqueLaw.generator(rated_drive_torque=DRIVE_TORQUE, exponent=LOAD_EXPONENT),
+    speed_reference_rpm=RUNUP_SPEED_RPM,
+    probes=(
+        Probe("speed", "stage1.carrier"),
+        Probe("speed", "stage1.sun"),
+        Probe("speed", "stage1.planet1"),  # spin relative to the carrier
+        Probe("speed", "stage2.carrier"),
+        Probe("speed", "stage2.sun"),
+        Probe("speed", "stage2.planet1"),
+        Probe("speed", "parallel.input_gear"),
+        Probe("speed", "parallel.output_gear"),
+        Probe("acceleration", "stage1.ring.y"),  # seed Fig. 18
+        Probe("acceleration", "parallel.output_gear.theta_z"),  # seed Fig. 19
+        Probe("mesh_force", "stage1.sun-planet1"),
+        Probe("mesh_force", "stage1.ring-planet1"),
+        Probe("mesh_force", "stage2.sun-planet1"),
+        Probe("mesh_force", "stage2.ring-planet1"),
+        Probe("mesh_force", "parallel.input-output"),
+        Probe("drive_torque"),
+        Probe("load_torque"),
+    ),
+    mean_window=1.0,  # s: equilibrium speeds are means over the last 1 s
+)
+
 case = Case(
     name="yang2016_gearbox",
     description="Gearbox of Yang, Jiang & Han (2016), section 6",
@@ -96,5 +147,32 @@ case = Case(
     formulation="improved",  # the paper's model
     # ASSUMED as for the study case (PHYSICS.md 3.7)
     damping=RayleighDamping(mass_coefficient=0.13, stiffness_coefficient=1e-6),
-    scenes=(Scene("modal", analyses=("modal",)),),
+    scenes=(
+        Scene("modal", analyses=("modal",)),
+        # Table 7: constant (mean) mesh stiffness
+        Scene("runup", analyses=("transient", "signal"), transient=RUNUP),
+        # Table 8: time-varying mesh stiffness of every mesh, the parallel pair's by its
+        # helical contact-line length (PHYSICS.md 5)
+        Scene(
+            "runup_tv",
+            analyses=("transient", "signal"),
+            effects=("time_varying_mesh_stiffness",),
+            transient=RUNUP,
+        ),
+    ),
+)
+
+# Accuracy study (`pygear accuracy yang2016_gearbox`, docs/accuracy.md): the ladder of
+# fidelities and time steps around the scene `runup`.
+accuracy = dict(
+    # s: shortened from 4 s so the ladder runs in minutes; t_s (0.33 s) and a 0.5 s
+    # equilibrium window still fit (ASSUMED long enough to settle)
+    duration=1.5,
+    mean_window=0.5,  # s: equilibrium speeds and mesh-force RMS/peak over 1.0-1.5 s
+    signal_after=1.0,  # s: spectra skip the start-up (PHYSICS.md 8)
+    coarsest_time_step=2.5e-5,  # s, the paper's step as the coarsest
+    levels=4,  # 2.5e-5 s halving down to 3.125e-6 s
+    sample_rate=40e3,  # Hz, every run sampled at the same instants
+    formulations=("improved",),  # lin-parker describes a single stage only
+    repeats=1,  # one timed run per setting keeps the 89-DOF rungs within minutes
 )
