@@ -35,16 +35,38 @@ def _finite(value: float) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
+MAGNITUDE_LIMIT = 1e15
+"""No SI value of a gearbox (kg, kg m^2, m, N/m, s) comes near 1e15 or 1e-15: beyond,
+the assembled matrices overflow or lose every digit, so such a value is a typo."""
+
+
 def require_positive(path: str, value: float) -> None:
-    """Raise :class:`CaseError` unless ``value`` is a finite number > 0."""
+    """Raise :class:`CaseError` unless ``value`` is a finite number > 0 (within
+    1e-15 .. 1e15, :data:`MAGNITUDE_LIMIT`)."""
     if not _finite(value) or value <= 0:
         raise CaseError(f"{path} must be a positive finite number (got {value!r})")
+    if not 1 / MAGNITUDE_LIMIT <= value <= MAGNITUDE_LIMIT:
+        raise CaseError(
+            f"{path} must be a positive finite number between {1 / MAGNITUDE_LIMIT:g} and "
+            f"{MAGNITUDE_LIMIT:g} in SI units (got {value!r})"
+        )
 
 
 def require_non_negative(path: str, value: float) -> None:
-    """Raise :class:`CaseError` unless ``value`` is a finite number >= 0."""
+    """Raise :class:`CaseError` unless ``value`` is a finite number >= 0 (at most 1e15)."""
     if not _finite(value) or value < 0:
         raise CaseError(f"{path} must be a finite number >= 0 (got {value!r})")
+    if value > MAGNITUDE_LIMIT:
+        raise CaseError(
+            f"{path} must be a finite number >= 0 and at most {MAGNITUDE_LIMIT:g} in SI units "
+            f"(got {value!r})"
+        )
+
+
+def looks_like_radians(value: float) -> bool:
+    """True for a non-zero angle in degrees below 1 in size: no gear angle of a
+    ``_deg`` parameter is that small, a value in radians often is."""
+    return _finite(value) and 0 < abs(value) < 1
 
 
 @dataclass(frozen=True)
@@ -158,6 +180,11 @@ class PlanetBearing:
             require_non_negative(f"{path}.{spec.name}", getattr(self, spec.name))
 
 
+MAX_CONTACT_RATIO = 10.0
+"""Involute gears mesh with fewer than ~3 transverse (~5 total) tooth pairs; the
+tooth-contact table evaluates ceil(contact_ratio) pairs per mesh and step."""
+
+
 @dataclass(frozen=True)
 class Mesh:
     """A gear mesh: one spring on the line of action.
@@ -207,7 +234,18 @@ class Mesh:
                 f"{path}.pressure_angle_deg must lie in (0, 45) degrees "
                 f"(got {self.pressure_angle_deg!r})"
             )
+        if looks_like_radians(self.pressure_angle_deg):
+            raise CaseError(
+                f"{path}.pressure_angle_deg must be given in degrees: "
+                f"{self.pressure_angle_deg!r} looks like radians "
+                f"(= {math.degrees(self.pressure_angle_deg):.4g} deg)"
+            )
         require_positive(f"{path}.contact_ratio", self.contact_ratio)
+        if self.contact_ratio >= MAX_CONTACT_RATIO:
+            raise CaseError(
+                f"{path}.contact_ratio must be below {MAX_CONTACT_RATIO:g} tooth pairs "
+                f"(got {self.contact_ratio!r})"
+            )
         if not _finite(self.end_to_peak) or not 0 < self.end_to_peak <= 1:
             raise CaseError(f"{path}.end_to_peak must lie in (0, 1] (got {self.end_to_peak!r})")
         if self.stiffness_curve is not None:
@@ -364,20 +402,54 @@ class PlanetaryStage:
                 f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees "
                 f"(got {self.base_helix_angle_deg!r})"
             )
-        if not _finite(self.axial_position):
-            raise CaseError(f"{path}.axial_position must be finite (got {self.axial_position!r})")
+        if looks_like_radians(self.base_helix_angle_deg):
+            raise CaseError(
+                f"{path}.base_helix_angle_deg must be given in degrees (0 for spur gears): "
+                f"{self.base_helix_angle_deg!r} looks like radians "
+                f"(= {math.degrees(self.base_helix_angle_deg):.4g} deg)"
+            )
+        if not _finite(self.axial_position) or abs(self.axial_position) > 100:
+            raise CaseError(
+                f"{path}.axial_position must be a finite position within 100 m of the "
+                f"gearbox origin (got {self.axial_position!r})"
+            )
         if self.ring.base_radius <= self.planet.base_radius:
             raise CaseError(
                 f"{path}.ring.base_radius must exceed {path}.planet.base_radius "
                 f"({self.ring.base_radius} <= {self.planet.base_radius})"
             )
+        self._validate_radii(path)
         self._validate_angles(path)
         self._validate_teeth(path)
         self._validate_contact(path)
 
+    def _validate_radii(self, path: str) -> None:
+        """The base radii and the carrier radius fix each mesh's line of action:
+        r_bs + r_bp = r_c cos(alpha_s) and r_br - r_bp = r_c cos(alpha_r) (PHYSICS.md 2),
+        so both sums over r_c must be cosines of a pressure angle in (0, 45) degrees."""
+        r_c = self.carrier.radius
+        for mesh, value, formula in (
+            ("sun_mesh", self.sun.base_radius + self.planet.base_radius, "sun + planet"),
+            ("ring_mesh", self.ring.base_radius - self.planet.base_radius, "ring - planet"),
+        ):
+            cosine = value / r_c
+            if not math.cos(math.pi / 4) < cosine < 1:
+                angle = f"{math.degrees(math.acos(cosine)):.3g} deg" if cosine < 1 else "none"
+                raise CaseError(
+                    f"{path}.carrier.radius: the geometry is impossible: {formula} base_radius = "
+                    f"{value * 1e3:.4g} mm must lie between cos(45 deg) r_c and r_c = "
+                    f"{r_c * 1e3:.4g} mm (r_c cos(alpha) of the {mesh}; implied pressure "
+                    f"angle: {angle})"
+                )
+
     def _validate_angles(self, path: str) -> None:
         if self.planet_angles_deg is not None:
             angles = self.planet_angles_deg
+            if not isinstance(angles, (tuple, list)):
+                raise CaseError(
+                    f"{path}.planet_angles_deg must be a sequence of angles in degrees, one per "
+                    f"planet (got {angles!r})"
+                )
             if len(angles) != self.planets:
                 raise CaseError(
                     f"{path}.planet_angles_deg must list one angle per planet "
@@ -390,17 +462,25 @@ class PlanetaryStage:
         pitch = self.planet.base_radius / math.cos(self.sun_mesh.pressure_angle)
         module = 2 * pitch / self.planet.teeth if self.planet.teeth else 0.0
         tip_radius = pitch + module
-        ordered = sorted(a % (2 * math.pi) for a in self.planet_angles)
-        gaps = [b - a for a, b in zip(ordered, ordered[1:])] + [
-            ordered[0] + 2 * math.pi - ordered[-1]
-        ]
-        smallest = min(gaps)
+        if self.planet_angles_deg is None:  # equal spacing (no list: N may be absurd)
+            smallest = 2 * math.pi / self.planets
+        else:
+            ordered = sorted(a % (2 * math.pi) for a in self.planet_angles)
+            gaps = [b - a for a, b in zip(ordered, ordered[1:])] + [
+                ordered[0] + 2 * math.pi - ordered[-1]
+            ]
+            smallest = min(gaps)
         centre_distance = 2 * self.carrier.radius * math.sin(smallest / 2)
         if centre_distance <= 2 * tip_radius:
+            hint = ""
+            angles = self.planet_angles_deg
+            if angles is not None and max(abs(a) for a in angles) <= 2 * math.pi + 1e-9:
+                degrees = ", ".join(f"{math.degrees(a):.4g}" for a in angles)
+                hint = f"; the angles look like radians: in degrees they are ({degrees})"
             raise CaseError(
                 f"{path}.planet_angles_deg: neighbouring planets {math.degrees(smallest):.3g} deg "
                 f"apart collide (centres {centre_distance * 1e3:.4g} mm apart, the planet tip "
-                f"circles need more than {2 * tip_radius * 1e3:.4g} mm)"
+                f"circles need more than {2 * tip_radius * 1e3:.4g} mm){hint}"
             )
 
     def _validate_teeth(self, path: str) -> None:

@@ -19,6 +19,7 @@ from .components import (
     Gear,
     Mesh,
     PlanetaryStage,
+    _finite,
     require_non_negative,
 )
 
@@ -118,7 +119,7 @@ class ParallelStage:
             getattr(self, name).validate(f"{path}.{name}")
         require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
         for name in ("base_helix_angle_deg", "centre_angle_deg", "axial_position"):
-            if not math.isfinite(getattr(self, name)):
+            if not _finite(getattr(self, name)):
                 raise CaseError(f"{path}.{name} must be finite (got {getattr(self, name)!r})")
         if abs(self.base_helix_angle_deg) >= 45:
             raise CaseError(f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees")
@@ -167,8 +168,8 @@ class ShaftInertia:
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
         self.body.validate(f"{path}.body")
         self.bearing.validate(f"{path}.bearing")
-        if not math.isfinite(self.axial_position):
-            raise CaseError(f"{path}.axial_position must be finite")
+        if not _finite(self.axial_position):
+            raise CaseError(f"{path}.axial_position must be finite (got {self.axial_position!r})")
 
 
 @dataclass(frozen=True)
@@ -294,6 +295,8 @@ class Gearbox:
         if not self.stages:
             raise CaseError(f"{path}.stages must hold at least one stage")
         names = [getattr(s, "name", None) for s in self.stages]
+        if not all(isinstance(n, str) and n.isidentifier() for n in names):
+            raise CaseError(f"{path}.stages: stage names must be identifiers (got {names!r})")
         if len(set(names)) != len(names):
             raise CaseError(f"{path}.stages: stage names must be unique (got {names})")
         for stage in self.stages:
@@ -315,10 +318,10 @@ class Gearbox:
         for n, coupling in enumerate(self.couplings):
             where = f"{path}.couplings[{n}]"
             if isinstance(coupling, RigidLink):
-                if not math.isfinite(coupling.ratio) or coupling.ratio == 0:
+                if not _finite(coupling.ratio) or coupling.ratio == 0:
                     raise CaseError(f"{where}.ratio must be finite and non-zero")
             elif isinstance(coupling, TorsionalSpring):
-                if not coupling.name.isidentifier():
+                if not isinstance(coupling.name, str) or not coupling.name.isidentifier():
                     raise CaseError(f"{where}.name must be an identifier (got {coupling.name!r})")
                 require_non_negative(f"{where}.stiffness", coupling.stiffness)
                 require_non_negative(f"{where}.damping", coupling.damping)
