@@ -126,6 +126,7 @@ class Model:
     effects: tuple[str, ...] = ()
     gyroscopic: np.ndarray | None = None
     attributes: dict = field(default_factory=dict)
+    spatial_size: int = 0  # reduced DOFs of the same gearbox with the spatial DOF set
 
     @property
     def size(self) -> int:
@@ -247,6 +248,7 @@ def assemble(
     coupling_damping = builder.add_couplings(case.gearbox.couplings)
 
     reduction, reduced = builder.reduction(_kept_dofs(case, dof_set))
+    spatial_size = builder.reduction(_kept_dofs(case, "spatial"))[0].shape[1]
     mass_full = sum(_embed(len(builder.labels), p.dofs, p.matrix) for p in builder.mass_parts)
     stiffness_full = np.zeros_like(mass_full)
     for spring in builder.springs:
@@ -289,7 +291,25 @@ def assemble(
         meshes=meshes,
         effects=tuple(effects),
         gyroscopic=gyroscopic,
+        attributes=_scene_attributes(case, scene),
+        spatial_size=spatial_size,
     )
+
+
+def _scene_attributes(case: Case, scene: Scene | None) -> dict:
+    """What the scene asks for beyond the matrices, for the record of effects in force."""
+    from .case import merged_defects
+
+    damping = case.damping
+    return {
+        "damping": (
+            f"Rayleigh alpha = {damping.mass_coefficient:g} 1/s, "
+            f"beta = {damping.stiffness_coefficient:g} s"
+        ),
+        "tooth_defects": len(merged_defects(case, scene)),
+        "helical_stages": tuple(s.name for s in case.gearbox.stages if not s.spur),
+        "carrier_speed_rpm": scene.carrier_speed_rpm if scene else 0.0,
+    }
 
 
 class _Builder:

@@ -10,13 +10,12 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import importlib.util
-import math
 import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .components import CaseError, ToothDefect, require_non_negative
+from .components import CaseError, ToothDefect, _finite, require_non_negative
 from .gearbox import Gearbox
 from .transient_settings import Transient
 
@@ -31,6 +30,7 @@ __all__ = [
     "Scene",
     "find_case_dir",
     "load_case",
+    "load_case_module",
     "replace_parameter",
     "get_parameter",
     "merged_defects",
@@ -49,8 +49,15 @@ ANALYSES = ("modal", "sensitivity", "transient", "signal")
 SIGNAL_AFTER = 1.0
 """Start-up the 'signal' analysis of a run skips [s] (the paper analyses t > 1 s)."""
 
-EFFECTS = ("speed_dependent_planet_terms", "time_varying_mesh_stiffness", "tooth_separation")
-"""Optional effects a scene may call for (PHYSICS.md 7)."""
+EFFECTS = (
+    "speed_dependent_planet_terms",
+    "time_varying_mesh_stiffness",
+    "tooth_separation",
+    "helical_coupling",
+)
+"""Optional effects a scene may call for (PHYSICS.md 7).  ``helical_coupling`` asks
+that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
+open); naming it refuses a DOF set that would drop them."""
 
 
 @dataclass(frozen=True)
@@ -125,8 +132,11 @@ class Scene:
             check_choice(f"{path}.analyses", analysis, ANALYSES)
         for effect in self.effects:
             check_choice(f"{path}.effects", effect, EFFECTS)
-        if not math.isfinite(self.carrier_speed_rpm):
-            raise CaseError(f"{path}.carrier_speed_rpm must be finite")
+        check_effects_against_dof_set(path, self)
+        if not _finite(self.carrier_speed_rpm):
+            raise CaseError(
+                f"{path}.carrier_speed_rpm must be a finite number (got {self.carrier_speed_rpm!r})"
+            )
         if "signal" in self.analyses and "transient" not in self.analyses:
             raise CaseError(f"{path}.analyses: 'signal' analyses a run, so it needs 'transient'")
         if "signal" in self.analyses and self.transient is not None:
@@ -184,6 +194,11 @@ class Case:
         check_choice("formulation", self.formulation, FORMULATIONS)
         self.gearbox.validate()
         self.damping.validate("damping")
+        require_file_name("name", self.name)
+        for n, scene in enumerate(self.scenes):
+            if not isinstance(scene, Scene):
+                raise CaseError(f"scenes[{n}] must be a Scene (got {scene!r})")
+            require_file_name(f"scenes[{n}].name", scene.name)
         names = [s.name for s in self.scenes]
         if len(set(names)) != len(names):
             raise CaseError(f"scenes: scene names must be unique (got {names})")
@@ -191,6 +206,11 @@ class Case:
         for scene in self.scenes:
             scene.validate(f"scenes.{scene.name}")
             validate_defects(self.gearbox, scene.defects, f"scenes.{scene.name}.defects")
+            if "helical_coupling" in scene.effects and all(s.spur for s in self.gearbox.stages):
+                raise CaseError(
+                    f"scenes.{scene.name}.effects: 'helical_coupling' needs a helical stage "
+                    "(every stage of this gearbox is spur)"
+                )
             if scene.parameters:
                 self.for_scene(scene)
 
@@ -218,6 +238,20 @@ class Case:
     def input_hash(self) -> str:
         """A short hash of every input value (stable across runs)."""
         return hashlib.sha256(repr(self).encode()).hexdigest()[:16]
+
+
+def require_file_name(path: str, name: object) -> None:
+    """Raise :class:`CaseError` unless ``name`` can name output files and directories."""
+    if (
+        not isinstance(name, str)
+        or not name.strip()
+        or name.startswith(".")
+        or any(c in name for c in '/\\:*?"<>|\0')
+    ):
+        raise CaseError(
+            f"{path} must be a non-empty name without path separators or leading dot; "
+            f"output files are named after it (got {name!r})"
+        )
 
 
 def validate_defects(gearbox: Gearbox, defects: tuple, path: str) -> None:
@@ -263,6 +297,35 @@ def validate_defects(gearbox: Gearbox, defects: tuple, path: str) -> None:
         if key in seen:
             raise CaseError(f"{where}: tooth {defect.tooth} of {defect.gear} is listed twice")
         seen.add(key)
+
+
+def check_effects_against_dof_set(path: str, scene: Scene) -> None:
+    """Refuse effects a scene's DOF set cannot carry, or that are listed twice.
+
+    ``helical_coupling`` couples in-plane and out-of-plane motion, so it needs the
+    out-of-plane DOFs (``spatial``, or the DOF set left open); the speed-dependent
+    planet terms act on the planets' zeta and eta, which a torsional set drops, and
+    need a nominal carrier speed.
+    """
+    repeated = sorted({e for e in scene.effects if scene.effects.count(e) > 1})
+    if repeated:
+        raise CaseError(f"{path}.effects: each effect may be listed once ({repeated} repeated)")
+    if "helical_coupling" in scene.effects and scene.dof_set in ("planar", "torsional"):
+        raise CaseError(
+            f"{path}.effects: 'helical_coupling' couples in-plane and out-of-plane DOFs, which "
+            f"the {scene.dof_set} DOF set drops ({path}.dof_set must be 'spatial' or left open)"
+        )
+    if "speed_dependent_planet_terms" in scene.effects:
+        if scene.dof_set == "torsional":
+            raise CaseError(
+                f"{path}.effects: 'speed_dependent_planet_terms' act on the planets' zeta and "
+                f"eta, which the torsional DOF set drops ({path}.dof_set)"
+            )
+        if scene.carrier_speed_rpm == 0.0:
+            raise CaseError(
+                f"{path}.carrier_speed_rpm must be non-zero for 'speed_dependent_planet_terms' "
+                "(the terms grow with the nominal carrier speed)"
+            )
 
 
 def merged_defects(case: Case, scene: Scene | None = None) -> tuple[ToothDefect, ...]:
@@ -351,14 +414,20 @@ def find_case_dir(reference: str | os.PathLike) -> Path:
     raise CaseError(f"CASE {str(reference)!r}: no case.py found (looked in {looked})")
 
 
-def load_case(reference: str | os.PathLike) -> Case:
-    """Load the ``case`` object that ``<case dir>/case.py`` defines."""
+def load_case_module(reference: str | os.PathLike, prefix: str = "pygear_case"):
+    """Execute ``<case dir>/case.py`` and return (its directory, the module)."""
     directory = find_case_dir(reference)
     spec = importlib.util.spec_from_file_location(
-        f"pygear_case_{directory.name}", directory / "case.py"
+        f"{prefix}_{directory.name}", directory / "case.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
+    return directory, module
+
+
+def load_case(reference: str | os.PathLike) -> Case:
+    """Load the ``case`` object that ``<case dir>/case.py`` defines."""
+    directory, module = load_case_module(reference)
     case = getattr(module, "case", None)
     if not isinstance(case, Case):
         raise CaseError(f"{directory / 'case.py'} must define a module-level `case = Case(...)`")

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .accuracy_cli import HANDLERS as ACCURACY_HANDLERS
+from .accuracy_cli import add_parser as add_accuracy_parser
 from .assembly import assemble
 from .batch import HANDLERS as BATCH_HANDLERS
 from .batch import add_parsers as add_batch_parsers
@@ -61,12 +63,13 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         metavar="S",
         help="transient scenes: save the state to DIR/<scene>.checkpoint.npz every S seconds "
-        "of wall time and on Ctrl-C",
+        "of wall time and on Ctrl-C or SIGTERM",
     )
     run.add_argument(
         "--resume",
         action="store_true",
-        help="transient scenes: continue from DIR/<scene>.checkpoint.npz when it exists",
+        help="transient scenes: continue from DIR/<scene>.checkpoint.npz when it exists "
+        "(saved again on Ctrl-C or SIGTERM, removed once the result is written)",
     )
 
     modal = commands.add_parser("modal", help="natural frequencies and mode classes")
@@ -131,6 +134,7 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("--duration", type=float, help="length [s] (default: 5 mesh cycles)")
     mesh.add_argument("--out", type=Path, required=True, help="target .nc file (figure beside)")
     add_batch_parsers(commands)
+    add_accuracy_parser(commands)
     return parser
 
 
@@ -145,6 +149,7 @@ def main(argv: list[str] | None = None) -> int:
         "mesh-stiffness": _mesh_stiffness,
         "analyze": _analyze,
         **BATCH_HANDLERS,
+        **ACCURACY_HANDLERS,
     }[args.command]
     try:
         return handler(args)
@@ -370,7 +375,7 @@ def _run(args: argparse.Namespace) -> int:
                 dataset, files = _run_transient(case, scene, model, out, args)
             except KeyboardInterrupt as interrupt:
                 print(f"pygear run: scene {scene.name}: {interrupt}", file=sys.stderr)
-                return 130
+                return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
             transients[scene.name] = dataset
             entry.update(transient_summary(dataset))
             entry["files"] += [str(p) for p in files]
@@ -411,8 +416,9 @@ def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Na
         out,
         progress=progress,
         model=model,
-        checkpoint=checkpoint if every is not None else None,
-        checkpoint_every=every or 0.0,
+        # resuming keeps the file current: saved again on a signal, removed when done
+        checkpoint=checkpoint if every is not None or args.resume else None,
+        checkpoint_every=every if every is not None else float("inf"),
         resume=checkpoint if args.resume and checkpoint.is_file() else None,
     )
 

@@ -291,7 +291,9 @@ def _class_indices(frequencies: np.ndarray, classes: list[str]) -> np.ndarray:
 
 
 def model_attributes(model: Model) -> dict[str, str | int]:
-    """Global attributes that say which model produced a result."""
+    """Global attributes that say which model produced a result (and its effects in force)."""
+    from .effects import effect_attributes
+
     return {
         "case": model.case_name,
         "formulation": model.formulation,
@@ -299,6 +301,7 @@ def model_attributes(model: Model) -> dict[str, str | int]:
         "dof_set_reason": model.dof_set_reason,
         "dof_count": model.size,
         "effects": ", ".join(model.effects) or "none",
+        **effect_attributes(model),
     }
 
 
