@@ -30,15 +30,10 @@ def grid_dataset(
     }
     kind = [m.split(":", 1)[0] for m in metrics]
     grid = ("formulation", "fidelity", "time_step")
-    # the median over the judged metrics read from the samples: an unjudged metric's
-    # differences are round-off, and its "order" is noise
-    sampled = np.isin(kind, sampled_kinds)
-    order_median = np.full(a["order"].shape[:2], np.nan)
-    for i, orders in enumerate(a["order"]):
-        chosen = orders[:, sampled & a["judged"][i]]
-        for j, row in enumerate(chosen):
-            if np.isfinite(row).any():
-                order_median[i, j] = np.nanmedian(row)
+    sampled = a["order"][..., np.isin(kind, sampled_kinds)]
+    order_median = np.array(
+        [[np.nanmedian(r) if np.isfinite(r).any() else np.nan for r in per_f] for per_f in sampled]
+    )
     ds = xr.Dataset(
         {
             "value": (
@@ -83,8 +78,7 @@ def grid_dataset(
                 order_median,
                 {
                     "units": "1",
-                    "long_name": "median observed order of the judged metrics read from "
-                    "the samples",
+                    "long_name": "median observed order of the metrics read from the samples",
                 },
             ),
             "discretisation_error": (

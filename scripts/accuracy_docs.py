@@ -78,7 +78,7 @@ def main() -> None:
         "reference's two finest time steps agree within the tolerance and the fixed-point",
         "iteration agrees with the reference's solver at the finest step; the others (e.g.",
         "round-off channels) are reported in the NetCDF file but not judged. The observed",
-        "order is the median, over the judged metrics read from the samples (t_s, mesh-force RMS",
+        "order is the median, over the metrics read from the samples (t_s, mesh-force RMS",
         "and peak, spectral peaks), of log2 of successive differences at the three finest",
         "steps (Richardson). Equilibrium speeds are the kernel's mean over the window's steps,",
         "a rectangle rule: their own order is 1 while a speed still drifts.",
