@@ -15,7 +15,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .components import CaseError, ToothDefect, _finite, require_non_negative
+from .components import CaseError, ToothDefect, is_finite_number, require_non_negative
 from .gearbox import Gearbox
 from .transient_settings import Transient
 
@@ -133,7 +133,7 @@ class Scene:
         for effect in self.effects:
             check_choice(f"{path}.effects", effect, EFFECTS)
         check_effects_against_dof_set(path, self)
-        if not _finite(self.carrier_speed_rpm):
+        if not is_finite_number(self.carrier_speed_rpm):
             raise CaseError(
                 f"{path}.carrier_speed_rpm must be a finite number (got {self.carrier_speed_rpm!r})"
             )

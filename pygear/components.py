@@ -31,8 +31,25 @@ class CaseError(ValueError):
     """A case parameter breaks a rule; the message names the parameter and the rule."""
 
 
-def _finite(value: float) -> bool:
+def is_finite_number(value: object) -> bool:
+    """True for a finite int or float (not a bool, a string or None)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+_finite = is_finite_number
+
+AXIAL_LIMIT = 100.0
+"""Stages sit within this distance of the gearbox origin along its axis [m]."""
+
+
+def require_axial_position(path: str, value: object) -> None:
+    """Raise :class:`CaseError` unless ``value`` is a finite position within
+    :data:`AXIAL_LIMIT` of the gearbox origin."""
+    if not is_finite_number(value) or abs(value) > AXIAL_LIMIT:
+        raise CaseError(
+            f"{path} must be a finite position within {AXIAL_LIMIT:g} m of the "
+            f"gearbox origin (got {value!r})"
+        )
 
 
 MAGNITUDE_LIMIT = 1e15
@@ -408,11 +425,7 @@ class PlanetaryStage:
                 f"{self.base_helix_angle_deg!r} looks like radians "
                 f"(= {math.degrees(self.base_helix_angle_deg):.4g} deg)"
             )
-        if not _finite(self.axial_position) or abs(self.axial_position) > 100:
-            raise CaseError(
-                f"{path}.axial_position must be a finite position within 100 m of the "
-                f"gearbox origin (got {self.axial_position!r})"
-            )
+        require_axial_position(f"{path}.axial_position", self.axial_position)
         if self.ring.base_radius <= self.planet.base_radius:
             raise CaseError(
                 f"{path}.ring.base_radius must exceed {path}.planet.base_radius "

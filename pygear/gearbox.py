@@ -19,9 +19,10 @@ from .components import (
     Gear,
     Mesh,
     PlanetaryStage,
-    _finite,
+    require_axial_position,
     require_non_negative,
 )
+from .components import is_finite_number as _finite
 
 __all__ = [
     "CENTRAL_DOFS",
@@ -118,9 +119,10 @@ class ParallelStage:
         for name in ("input_gear", "output_gear", "input_bearing", "output_bearing", "mesh"):
             getattr(self, name).validate(f"{path}.{name}")
         require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
-        for name in ("base_helix_angle_deg", "centre_angle_deg", "axial_position"):
+        for name in ("base_helix_angle_deg", "centre_angle_deg"):
             if not _finite(getattr(self, name)):
                 raise CaseError(f"{path}.{name} must be finite (got {getattr(self, name)!r})")
+        require_axial_position(f"{path}.axial_position", self.axial_position)
         if abs(self.base_helix_angle_deg) >= 45:
             raise CaseError(f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees")
         if self.spur and self.mesh.contact_ratio <= 1:
@@ -168,8 +170,7 @@ class ShaftInertia:
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
         self.body.validate(f"{path}.body")
         self.bearing.validate(f"{path}.bearing")
-        if not _finite(self.axial_position):
-            raise CaseError(f"{path}.axial_position must be finite (got {self.axial_position!r})")
+        require_axial_position(f"{path}.axial_position", self.axial_position)
 
 
 @dataclass(frozen=True)

@@ -17,10 +17,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import CASES
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pygear import CaseError, Probe, Scene, TorqueLaw
+from pygear import CaseError, Probe, Scene, TorqueLaw, load_case
 from pygear.assembly import assemble
 from pygear.case import get_parameter, replace_parameter
 from pygear.cli import main
@@ -187,6 +188,31 @@ CASE_FILE_INPUTS = [
 def test_case_file_input_is_refused(study_case, parameter, value, message):
     with pytest.raises(CaseError) as error:
         replace_parameter(study_case, parameter, value)
+    assert message in str(error.value)
+
+
+GEARBOX_INPUTS = [
+    (
+        "parallel.axial_position",
+        1e300,
+        "parallel.axial_position must be a finite position within 100 m of the gearbox origin",
+    ),
+    (
+        "parallel.axial_position",
+        math.nan,
+        "parallel.axial_position must be a finite position within 100 m of the gearbox origin",
+    ),
+    ("parallel.overlap_ratio", -0.37, "parallel.overlap_ratio must be a finite number >= 0"),
+    ("parallel.input_gear.teeth", 0, "parallel.input_gear.teeth"),
+]
+
+
+@pytest.mark.parametrize(("parameter", "value", "message"), GEARBOX_INPUTS)
+def test_gearbox_input_is_refused(parameter, value, message):
+    """The gearbox case's parallel stage has the same rules as a planetary stage."""
+    gearbox = load_case(CASES / "yang2016_gearbox")
+    with pytest.raises(CaseError) as error:
+        replace_parameter(gearbox, parameter, value)
     assert message in str(error.value)
 
 
