@@ -180,6 +180,20 @@ def main() -> None:
     print(f"plain NumPy loop, same algorithm  : {plain:8.3f} us per step")
     print(f"ratio NumPy / kernel              : {plain / kernel:8.1f} x")
 
+    # rigid-body rebasing (pygear.newmark_rebase) against a run that never rebases
+    import pygear.newmark_rebase as rebase
+
+    default_steps = rebase.REBASE_STEPS
+    rebase.REBASE_STEPS = 1 << 62
+    try:
+        never = median(wall_us, args.repeats)
+    finally:
+        rebase.REBASE_STEPS = default_steps
+    print(
+        f"rebasing every {default_steps} steps costs {100 * (whole / never - 1):+.1f} % "
+        f"({whole:.3f} against {never:.3f} us per step without it)"
+    )
+
     # the same trajectory: carrier speed and sun-planet1 mesh force of both loops
     reference = numpy_newmark(problem, args.numpy_steps)
     check = problem_for(
