@@ -13,7 +13,8 @@
 !> Solving for a keeps the unknowns small while q grows with the rotation.
 !>
 !> Matrices are symmetric band matrices in LAPACK lower storage (ab(1 + i - j, j) =
-!> A(i, j), j <= i <= j + kd); Khat is factored with dpbtrf and solved with dpbtrs.
+!> A(i, j), j <= i <= j + kd); Khat is factored with dpbtrf and solved with dpbtrs
+!> (module band_lapack).
 !> The DOF order is the caller's (reverse Cuthill-McKee in pygear).
 !>
 !> Meshes (equivalent load, the paper's eq. 25): mesh m has a sparse deflection
@@ -41,28 +42,12 @@ module newmark
   use kinds, only: dp, ik
   use contact_table, only: evaluate_contact, ct_ok
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
+  use band_lapack, only: band_cholesky_factor, band_cholesky_solve
   implicit none
   private
 
   public :: newmark_start, newmark_advance
 
-  interface
-    subroutine dpbtrf(uplo, n, kd, ab, ldab, info)
-      import :: dp
-      character, intent(in) :: uplo
-      integer, intent(in) :: n, kd, ldab
-      real(dp), intent(inout) :: ab(ldab, *)
-      integer, intent(out) :: info
-    end subroutine dpbtrf
-    subroutine dpbtrs(uplo, n, kd, nrhs, ab, ldab, b, ldb, info)
-      import :: dp
-      character, intent(in) :: uplo
-      integer, intent(in) :: n, kd, nrhs, ldab, ldb
-      real(dp), intent(in) :: ab(ldab, *)
-      real(dp), intent(inout) :: b(ldb, *)
-      integer, intent(out) :: info
-    end subroutine dpbtrs
-  end interface
 
 contains
 
@@ -133,7 +118,7 @@ contains
     integer(ik), intent(out) :: ierr                             !< error code (0 = ok)
     real(dp), allocatable :: work(:, :), rhs(:), delta(:)
     real(dp) :: speed
-    integer :: info, j
+    integer(ik) :: info, j
     logical :: on
 
     a = 0.0_dp
@@ -157,7 +142,7 @@ contains
 
     call effective_band(n, kd, mass_band, damping_band, stiffness_band, rparam, khat_band)
     khat_factor = khat_band
-    call dpbtrf('L', int(n), int(kd), khat_factor, int(kd) + 1, info)
+    call band_cholesky_factor(n, kd, khat_factor, info)
     if (info /= 0) then
       ierr = nm_err_definite
       bad = int(max(info, 0), ik)
@@ -191,13 +176,13 @@ contains
       end do
     end if
     work = mass_band
-    call dpbtrf('L', int(n), int(kd), work, int(kd) + 1, info)
+    call band_cholesky_factor(n, kd, work, info)
     if (info /= 0) then
       ierr = nm_err_mass
       bad = int(max(info, 0), ik)
       return
     end if
-    call dpbtrs('L', int(n), int(kd), 1, work, int(kd) + 1, rhs, int(n), info)
+    call band_cholesky_solve(n, kd, work, rhs, info)
     if (info /= 0) then
       ierr = nm_err_solve
       return
@@ -343,7 +328,7 @@ contains
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
-    integer :: info
+    integer(ik) :: info
     logical :: nonlinear, converged, load_on, restart
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
@@ -380,7 +365,7 @@ contains
     if (restart) then  ! M's factor for the restarts, once per call
       allocate (mass_factor(kd + 1, n))
       mass_factor = mass_band
-      call dpbtrf('L', int(n), int(kd), mass_factor, int(kd) + 1, info)
+      call band_cholesky_factor(n, kd, mass_factor, info)
       if (info /= 0) then
         ierr = nm_err_definite
         bad = int(max(info, 0), ik)
@@ -453,7 +438,7 @@ contains
           end do
         end if
         rhs = scale_k * rhs
-        call dpbtrs('L', int(n), int(kd), 1, khat_factor, int(kd) + 1, rhs, int(n), info)
+        call band_cholesky_solve(n, kd, khat_factor, rhs, info)
         if (info /= 0) then
           ierr = nm_err_solve
           return
@@ -567,7 +552,7 @@ contains
                         mesh_ptr, mesh_index, mesh_value, rhs)
         mesh_var(mm) = (k_step(mm) - mean_stiffness(mm)) * delta_n
       end do
-      call dpbtrs('L', int(n), int(kd), 1, mass_factor, int(kd) + 1, rhs, int(n), info)
+      call band_cholesky_solve(n, kd, mass_factor, rhs, info)
       if (info /= 0) then
         ierr = nm_err_solve
         return
@@ -668,7 +653,7 @@ contains
           end do
         end do
       end do
-      call dpbtrf('L', int(n), int(kd), khat_factor, int(kd) + 1, info)
+      call band_cholesky_factor(n, kd, khat_factor, info)
       if (info /= 0) then
         ierr = nm_err_definite
         bad = int(max(info, 0), ik)

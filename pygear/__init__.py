@@ -5,6 +5,8 @@ Yang, Jiang & Han 2016, a kinetically consistent variant, and Lin & Parker 1999)
 assembled from Fortran element matrices, with modal analysis and sensitivities.
 """
 
+# first: loads the kernel's OpenBLAS so that the extension finds it wherever installed
+from . import _blas  # noqa: F401  isort: skip
 from .case import Case, RayleighDamping, Scene, load_case
 from .components import (
     Bearing,

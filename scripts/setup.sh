@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Set up pygear on a fresh machine: system packages (a Fortran compiler, LAPACK,
-# pkg-config), a virtual environment, and the package built by meson-python.
+# Set up pygear on a fresh machine: system packages (a Fortran compiler and pkg-config),
+# a virtual environment, and the package built by meson-python. The kernel links the
+# OpenBLAS that NumPy and SciPy ship (the scipy-openblas32 wheel), not a system BLAS:
+# an older system OpenBLAS may not know the CPU and fall back to generic kernels.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${VENV:-.venv}
@@ -8,22 +10,25 @@ VENV=${VENV:-.venv}
 missing=()
 command -v gfortran >/dev/null || missing+=(gfortran)
 command -v pkg-config >/dev/null || missing+=(pkg-config)
-pkg-config --exists lapack 2>/dev/null || pkg-config --exists openblas 2>/dev/null \
-  || missing+=(libopenblas-dev)
 if [ ${#missing[@]} -gt 0 ]; then
   if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
     echo "setup: installing ${missing[*]} with apt-get" >&2
     apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq gfortran libopenblas-dev pkg-config
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq gfortran pkg-config
   else
-    echo "setup: please install ${missing[*]} (Debian: gfortran libopenblas-dev pkg-config)" >&2
+    echo "setup: please install ${missing[*]} (Debian: gfortran pkg-config)" >&2
     exit 1
   fi
 fi
 
 [ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q "numpy>=1.26" "meson-python>=0.15" "meson>=1.1" ninja
+"$VENV/bin/python" -m pip install -q "numpy>=1.26" "meson-python>=0.15" "meson>=1.1" ninja \
+  "scipy-openblas32>=0.3.30"
+# pkg-config finds the wheel's OpenBLAS (scipy-openblas.pc); meson keeps the path for rebuilds
+openblas_pc=$("$VENV/bin/python" -c \
+  "import os, scipy_openblas32 as s; print(os.path.join(s.get_lib_dir(), 'pkgconfig'))")
 # editable: the extension is rebuilt on import whenever a Fortran or Python file changed
-"$VENV/bin/python" -m pip install -q --no-build-isolation -e ".[test]"
+"$VENV/bin/python" -m pip install -q --no-build-isolation \
+  -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test]"
 "$VENV/bin/python" -c "import pygear._kernel" && echo "setup: pygear is installed in $VENV" >&2
