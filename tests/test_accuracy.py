@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import consistent_stage
+from conftest import consistent_stage, rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import Case, CaseError, Gearbox, Probe, RayleighDamping, Scene, TorqueLaw, Transient
 from pygear.accuracy import (
@@ -143,13 +143,27 @@ def test_grid_and_files(small_study, tmp_path):
     assert "recommendation" in files[1].read_text()
 
 
-def test_pruned_rungs_match_the_full_model(small_study):
-    """Planar and spatial rungs give the same in-plane answers: errors below 1e-9."""
-    _, ds = small_study
+def test_pruned_rungs_match_the_full_model(small_study, study_case):
+    """Planar and spatial rungs give the same in-plane answers to round-off.
+
+    The bound is conftest.roundoff_tolerance for the finest step's 48 000 steps, with
+    the sun-planet deflection against the sun's rigid turn as the amplification."""
+    study, ds = small_study
     sub = ds.isel(formulation=0, time_step=-1)
+    reference = sub.value.sel(fidelity="spatial/time-varying/refactor")
+    stage = study_case.gearbox.stages[0]
+    sun_rpm = float(reference.sel(metric="equilibrium_speed:sun"))
+    force = float(reference.sel(metric="mesh_force_rms:sun_planet1_mesh_force"))
+    amplification = rigid_to_elastic_ratio(
+        stage.sun.base_radius, sun_rpm * np.pi / 30 * study.duration, force,
+        stage.sun_mesh.stiffness,
+    )
+    steps = round(study.duration / float(sub.time_step))
+    tolerance = roundoff_tolerance(steps, amplification)
+    assert tolerance < 1e-4  # far below the 1 % the study judges by
     judged = sub.judged.values.astype(bool)
     planar = sub.error.sel(fidelity="planar/time-varying/refactor").values[judged]
-    assert judged.sum() >= 8 and np.all(planar <= 1e-9)
+    assert judged.sum() >= 8 and np.all(planar <= tolerance)
     constant = ds.contact_evaluations.sel(fidelity="planar/constant/linear").values
     assert np.all(constant == 0)
 
