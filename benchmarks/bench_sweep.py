@@ -4,7 +4,7 @@ overhead per point against the point's own run.
 The same sweep runs into a fresh directory on a warm local cluster (worker processes
 started and pygear imported before timing), as ``run_sweep`` starts its own, at two
 sizes, so that the fixed cost of a sweep (connecting, planning, combining, writing
-``sweep.nc``) and the cost per point separate; medians of repeats.
+``sweep_<hash>.nc``) and the cost per point separate; medians of repeats.
 The point's own run is measured in this process: its analyses alone, and with its
 NetCDF file written (``pygear.sweep_points.run_point``).  The machine's load average
 is printed: on a shared 2-core machine other work takes cores from the workers.
@@ -64,8 +64,7 @@ def serial_per_point(case, scene: str | None, n: int, repeats: int) -> tuple[flo
         for i, (modified, assignments) in enumerate(zip(cases, points)):
             path, error = str(scratch / f"p{i}.nc"), str(scratch / f"p{i}.json")
             digest = point_hash(modified, chosen, formulation)
-            task = PointTask(i, modified, chosen, formulation, assignments, False, path, error,
-                             digest)  # fmt: skip
+            task = PointTask(i, modified, chosen, formulation, assignments, path, error, digest)
             assert run_point(task)["status"] == "computed"
 
     try:

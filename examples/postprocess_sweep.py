@@ -1,11 +1,12 @@
 """Post-process a sweep's results with xarray: a Campbell-style plot and a map.
 
-    python examples/postprocess_sweep.py [SWEEP_DIR]
+    python examples/postprocess_sweep.py [SWEEP]
 
-SWEEP_DIR is the ``--out`` of ``pygear sweep`` (it holds ``sweep.nc`` and the point
-files).  Without it a small sweep of the study case over the sun-planet and
+SWEEP is a sweep's combined file (``sweep_<hash>.nc``, printed by ``pygear sweep``) or
+its ``--out`` directory, whose newest combined file is taken (several sweeps may share
+a directory).  Without it a small sweep of the study case over the sun-planet and
 ring-planet mesh stiffnesses is run first (``out/postprocess_example``).  Writes
-``campbell.png`` and ``map.png`` into SWEEP_DIR.
+``campbell.png`` and ``map.png`` beside the combined file.
 """
 
 from __future__ import annotations
@@ -23,11 +24,16 @@ import xarray as xr  # noqa: E402
 COLOURS = {"rotational": "tab:red", "translational": "tab:blue", "planet": "tab:green"}
 
 
-def open_sweep(directory: Path) -> xr.Dataset:
-    """The combined dataset; the point files give the same with open_mfdataset."""
-    if (directory / "sweep.nc").is_file():
-        return xr.open_dataset(directory / "sweep.nc").load()
-    # an interrupted sweep has no sweep.nc yet: combine the points done so far
+def open_sweep(target: Path) -> xr.Dataset:
+    """The combined dataset: the file given, or a directory's newest ``sweep_*.nc``; the
+    point files of a directory holding one grid sweep give the same with open_mfdataset."""
+    if target.is_file():
+        return xr.open_dataset(target).load()
+    combined = sorted(target.glob("sweep_*.nc"), key=lambda p: p.stat().st_mtime)
+    if combined:
+        return xr.open_dataset(combined[-1]).load()
+    directory = target
+    # an interrupted sweep has no combined file yet: combine the points done so far
     files = sorted(directory.glob("point_*.nc"))
     return xr.open_mfdataset(
         files, combine="by_coords", data_vars="all", coords="different",
@@ -101,18 +107,21 @@ def metric_map(sweep: xr.Dataset, path: Path) -> None:
 
 def main() -> None:
     if len(sys.argv) > 1:
-        directory = Path(sys.argv[1])
+        target = Path(sys.argv[1])
     else:
         from pygear.sweep import run_sweep
 
-        directory = Path("out/postprocess_example")
         case = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
         params = [
             ("planetary.sun_mesh.stiffness", "logspace(7,10,13)"),
             ("planetary.ring_mesh.stiffness", "logspace(7,10,9)"),
         ]
-        run_sweep(case, params, scene="modal", out_dir=directory, workers=2)
-    sweep = open_sweep(directory)
+        result = run_sweep(
+            case, params, scene="modal", out_dir="out/postprocess_example", workers=2
+        )
+        target = Path(result.attrs["path"])
+    sweep = open_sweep(target)
+    directory = target.parent if target.is_file() else target
     campbell(sweep, directory / "campbell.png")
     written = [directory / "campbell.png"]
     if len(swept(sweep)) >= 2:

@@ -26,8 +26,10 @@ from .case import FORMULATIONS, Case, Scene, find_case_dir, load_case
 from .cluster import task_files
 from .components import CaseError
 from .io import atomic_path, write_netcdf
+from .json_output import json_text
 from .modal import modal_analysis
 from .progress import ProgressBar
+from .transient_checks import check_scenes
 
 __all__ = [
     "HANDLERS",
@@ -165,6 +167,7 @@ def run_scene(case_dir: str, scene_name: str, out_dir: str) -> dict:
     try:
         case = load_case(case_dir)
         scene = case.scene(scene_name)
+        check_scenes(case, [scene], out=out_dir)  # probe targets, memory, disk: before any work
         case = case.for_scene(scene)  # its parameter changes, as `pygear run` applies them
         row["analyses"] = ",".join(scene.analyses)
         model = assemble(case, scene)
@@ -224,6 +227,8 @@ def run_batch(
 
     validate_cluster_options(workers, scheduler)
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise CaseError(f"--out {str(out)!r} is a file: a batch writes into a directory")
     rows: list[dict] = []
     tasks: list[tuple[str, str, str]] = []
     directories = find_case_dirs(paths)
@@ -289,7 +294,14 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     sweep = commands.add_parser(
         "sweep",
         help="run a scene over a grid of parameter values (Dask), one file per point",
-        description="Exit code 0 when every point ran, 1 when some failed, 2 for bad input.",
+        description="Each point's file, point_<hash>.nc, is named by the hash of its inputs: "
+        "the case, scene, formulation, parameter values and pygear's Python and Fortran "
+        "sources.  Sweeps may share one --out: a rerun or another sweep reuses every point "
+        "already there, in any order and either layout, and no sweep deletes a file; a "
+        "point with an error record or NaN results runs again, and so does every point "
+        "after the code changes.  Each sweep writes its combined dataset to "
+        "sweep_<hash>.nc and prints its name.  "
+        "Exit code 0 when every point ran, 1 when some failed, 2 for bad input.",
     )
     sweep.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
     sweep.add_argument(
@@ -302,7 +314,11 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     sweep.add_argument("--zip", action="store_true", help="pair the values instead of a grid")
     sweep.add_argument("--scene", help="scene to run (default: the case's first)")
     sweep.add_argument("--formulation", choices=FORMULATIONS, help="override the scene's")
-    sweep.add_argument("--out", type=Path, help="sweep directory (default: out/<case>/sweep_...)")
+    sweep.add_argument(
+        "--out",
+        type=Path,
+        help="sweep directory, may hold other sweeps (default: out/<case>/sweep_<paths>)",
+    )
     _add_dask_options(sweep)
     sweep.add_argument("--cluster", choices=("slurm", "pbs"), help="run on a job queue")
     sweep.add_argument("--queue", help="job queue (partition)")
@@ -328,7 +344,7 @@ def _batch(args: argparse.Namespace) -> int:
     )
     if args.json:
         records = json.loads(table.to_json(orient="records"))
-        print(json.dumps({"out": str(args.out), "runs": records}))
+        print(json_text({"out": str(args.out), "runs": records}))
     else:
         shown = table.assign(files=table["files"].apply(len)).drop(columns=["analyses"])
         print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep="-"))
@@ -374,7 +390,7 @@ def _sweep(args: argparse.Namespace) -> int:
         status = result.point_status.values.ravel()
         errors = result.point_error.values.ravel()
         print(
-            json.dumps(
+            json_text(
                 {
                     "case": result.attrs["case"],
                     "scene": result.attrs["scene"],

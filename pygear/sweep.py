@@ -2,22 +2,30 @@
 
 A sweep changes case parameters (``stage.member.parameter``) over lists of values, as
 a grid (outer product) or zipped (pairs).  Every point runs its scene's analyses in a
-Dask task and writes ``point_<index>_<hash>.nc`` atomically, its parameter values held
-as length-1 dimensions, so that ``xarray.open_mfdataset(files, combine="by_coords")``
-puts the points back together.  A rerun skips every point whose file carries the same
-input hash; a failed point leaves ``point_<index>.error.json`` and the others go on.
-At the end the points are combined into ``sweep.nc`` (failed points as NaN).
+Dask task and writes ``point_<hash>.nc`` atomically, named by the hash of its inputs
+(the modified case, scene, formulation and pygear's source identity, see
+:func:`~pygear.sweep_points.point_hash`), its parameter values held as length-1
+dimensions, so that ``xarray.open_mfdataset(files, combine="by_coords")`` puts a grid
+sweep's points back together.  A point is known by that hash alone, never by its place
+in a sweep: any later sweep into the same directory, of either layout and in any order,
+reuses a point whose file carries its hash, holds no NaN where a number belongs
+(:data:`~pygear.sweep_points.NAN_IS_A_RESULT`) and has no error record beside it.  A
+failed point leaves ``point_<hash>.error.json`` and the others go on.  At the end the
+points are combined into ``sweep_<hash>.nc`` (failed points as NaN), named by the
+sweep's layout, parameters and point hashes.  No sweep deletes a file: several sweeps
+share one directory and each keeps its combined dataset.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
-import re
 import sys
 import time
-from collections.abc import Callable, Mapping, Sequence
+import uuid
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +38,7 @@ from .components import CaseError
 from .io import write_netcdf
 from .progress import ProgressBar
 from .sweep_points import (
+    NAN_IS_A_RESULT,
     POINT_ANALYSES,
     PointTask,
     SweepParameter,
@@ -44,50 +53,67 @@ from .sweep_points import (
 )
 
 __all__ = [
-    "COMBINED_NAME",
     "POINT_ANALYSES",
     "combine_points",
+    "combined_path",
     "parse_param",
     "run_sweep",
     "sweep_summary",
     "validate_sweep",
 ]
 
-COMBINED_NAME = "sweep.nc"
-"""File name of the combined dataset in the sweep's directory."""
+# --------------------------------------------------------------------------- the files
 
-_POINT_FILE = re.compile(r"^point_(\d+)_([0-9a-f]{16})\.nc$")
-_ERROR_FILE = re.compile(r"^point_(\d+)\.error\.json$")
+
+def _point_path(directory: Path, digest: str) -> Path:
+    return directory / f"point_{digest}.nc"
+
+
+def _error_path(directory: Path, digest: str) -> Path:
+    return directory / f"point_{digest}.error.json"
+
+
+def combined_path(
+    directory: str | os.PathLike,
+    parameters: Sequence[SweepParameter],
+    zipped: bool,
+    point_hashes: Sequence[str],
+) -> Path:
+    """``<directory>/sweep_<hash>.nc``: the hash of the layout, the parameter paths and
+    the point hashes in order, so that only a rerun of the same sweep replaces it."""
+    text = json.dumps(
+        {
+            "layout": "zip" if zipped else "grid",
+            "parameters": [p.path for p in parameters],
+            "points": list(point_hashes),
+        }
+    )
+    return Path(directory) / f"sweep_{hashlib.sha256(text.encode()).hexdigest()[:16]}.nc"
+
+
+def _reusable_point(directory: Path, digest: str) -> xr.Dataset | None:
+    """The point's results from an earlier run, or None when it must run: no file, an
+    error record beside it, a file that cannot be read or carries another hash, or NaN
+    in a result where NaN is no answer (:data:`NAN_IS_A_RESULT`)."""
+    path = _point_path(directory, digest)
+    if not path.is_file() or _error_path(directory, digest).exists():
+        return None
+    try:
+        with task_files(), xr.open_dataset(path, engine="netcdf4") as opened:
+            if opened.attrs.get("point_hash") != digest:
+                return None
+            data = opened.load()
+    except (OSError, ValueError, RuntimeError):
+        return None
+    for name, values in data.data_vars.items():
+        if name in NAN_IS_A_RESULT or values.dtype.kind not in "fc":
+            continue
+        if np.isnan(values.values).any():
+            return None
+    return data
 
 
 # --------------------------------------------------------------------------- the sweep
-
-
-def _stored_hash(path: Path) -> str | None:
-    import netCDF4
-
-    try:
-        with task_files(), netCDF4.Dataset(path) as dataset:
-            return str(dataset.getncattr("point_hash"))
-    except (OSError, AttributeError, RuntimeError):
-        return None
-
-
-def _existing_files(directory: Path) -> dict[str, Path]:
-    """Point files of earlier runs in ``directory``, by their hash."""
-    found = {}
-    for path in directory.glob("point_*.nc"):
-        match = _POINT_FILE.match(path.name)
-        if match:
-            found[match.group(2)] = path
-    return found
-
-
-def _remove_stale(directory: Path, keep: set[str]) -> None:
-    """Remove point files and error records that belong to no point of this sweep."""
-    for path in directory.glob("point_*"):
-        if (_POINT_FILE.match(path.name) or _ERROR_FILE.match(path.name)) and path.name not in keep:
-            path.unlink()
 
 
 def run_sweep(
@@ -120,7 +146,9 @@ def run_sweep(
     formulation : str, optional
         Override of the scene's formulation.
     out_dir : path
-        Directory of the point files and of ``sweep.nc``; it holds one sweep.
+        Directory of the point files (``point_<hash>.nc``, shared by every sweep that
+        reaches the same inputs) and of the combined ``sweep_<hash>.nc``.  Sweeps may
+        share it: none deletes a file, each reuses the points already there.
     workers : int
         Workers of the local cluster.
     scheduler : str, optional
@@ -135,13 +163,15 @@ def run_sweep(
     -------
     xarray.Dataset
         The combined results: one dimension per swept parameter (or ``point`` when
-        zipped), ``point_status`` and ``point_error``; attributes ``points``,
-        ``points_computed``, ``points_reused`` and ``points_failed``.
+        zipped), ``point_status``, ``point_error`` and ``point_hash`` (the name of the
+        point's files); attributes ``points``, ``points_computed``, ``points_reused``,
+        ``points_failed`` and ``path`` (the combined file).
 
     Raises
     ------
     CaseError
-        Before any work, for a bad parameter, scene, formulation or cluster option.
+        Before any work, for a bad parameter, scene, formulation or cluster option, or
+        an ``out_dir`` that is a file.
     """
     from .cluster import dask_client, validate_cluster_options
 
@@ -152,6 +182,8 @@ def run_sweep(
     )
     validate_cluster_options(workers, scheduler, cluster, cluster_options)
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise CaseError(f"--out {str(out)!r} is a file: a sweep writes into a directory")
     out.mkdir(parents=True, exist_ok=True)
     points = sweep_points(parameters, zip_params)
     n_points = len(points)
@@ -161,30 +193,47 @@ def run_sweep(
         ("sweep_parameters", " ".join(p.path for p in parameters)),
         ("sweep_layout", "zip" if zip_params else "grid"),
     )
-    records, files, tasks = _plan_points(
-        out, case, chosen, resolved, points, zip_params, shared_attrs
-    )
+    records, hashes, found, tasks = _plan_points(out, case, chosen, resolved, points, shared_attrs)
 
     timing = {"time_plan_s": time.perf_counter() - started}
     bar = ProgressBar(f"sweep {case.name}", enabled=progress)
-    settled = len(records)
+    settled = sum(index in records or digest in found for index, digest in enumerate(hashes))
     if settled:
         bar(settled, n_points)
-    results: dict[int, xr.Dataset | Path] = {}
+    outcome: dict[str, dict] = {}  # the run's record of every point hash it ran
+    results: dict[str, xr.Dataset | Path] = dict(found)
     if tasks:
+        sharing = {t.point_hash: hashes.count(t.point_hash) for t in tasks}  # zipped repeats
         with dask_client(
             workers=workers, scheduler=scheduler, cluster=cluster, cluster_options=cluster_options
         ) as client:
-            for record in _run_tasks(client, tasks, lambda n: bar(settled + n, n_points)):
+            for record in _run_tasks(client, tasks):
+                digest = record["point_hash"]
                 if "data" in record:
-                    results[record["index"]] = record.pop("data")
-                records[record["index"]] = record
+                    results[digest] = record.pop("data")
+                elif record["status"] == "computed":
+                    results[digest] = _point_path(out, digest)
+                outcome[digest] = record
+                settled += sharing[digest]
+                bar(settled, n_points)
     timing["time_run_s"] = time.perf_counter() - started - timing["time_plan_s"]
-    for index, path in files.items():
-        if records[index]["status"] != "failed":
-            results.setdefault(index, path)
-    combined = combine_points(
-        [results[i] for i in sorted(results)], parameters, zip_params, records, n_points
+    for index, digest in enumerate(hashes):
+        if index in records:  # refused by the case
+            continue
+        if digest in found:
+            records[index] = {"index": index, "status": "reused"}
+        else:
+            record = outcome[digest]
+            records[index] = {"index": index, "status": record["status"]}
+            if "error" in record:
+                records[index]["error"] = record["error"]
+    placed = {i: results[d] for i, d in enumerate(hashes) if records[i]["status"] != "failed"}
+    combined = combine_points(placed, points, parameters, zip_params, records, n_points)
+    dims = ("point",) if zip_params else tuple(p.path for p in parameters)
+    combined["point_hash"] = (
+        dims,
+        np.array(hashes, dtype=object).reshape(combined.point_status.shape),
+        {"long_name": "input hash of the point: its files are point_<hash>.nc (.error.json)"},
     )
     combined.attrs.update(dict(shared_attrs))
     combined.attrs.update(
@@ -200,7 +249,7 @@ def run_sweep(
     )
     path = write_netcdf(
         combined,
-        out / COMBINED_NAME,
+        combined_path(out, parameters, zip_params, hashes),
         title=f"Sweep of {case.name}, scene {chosen.name}, over "
         + ", ".join(p.path for p in parameters),
         input_hash=case.input_hash(),
@@ -218,112 +267,120 @@ def _plan_points(
     scene: Scene,
     formulation: str,
     points: list[dict],
-    zipped: bool,
     attrs: tuple,
-) -> tuple[dict[int, dict], dict[int, Path], list[PointTask]]:
-    """Sort the points into reused (a file with the same hash exists), failed at once
-    (the case refuses a value) and to run; remove files of points no longer in the sweep.
+) -> tuple[dict[int, dict], list[str], dict[str, xr.Dataset], list[PointTask]]:
+    """Hash every point and sort it: failed at once (the case refuses a value), found
+    (its file from an earlier run is sound) or to run (once per hash).
 
     Returns
     -------
-    records, files, tasks
-        Records of the settled points by index, the file of every point that has or
-        will have one, and the tasks to run.
+    records, hashes, found, tasks
+        Records of the points refused by the case, by index; the hash of every point
+        in order; the results found, by hash; the tasks to run, one per hash.
     """
-    width = max(4, len(str(len(points) - 1)))
-    existing = _existing_files(out)
     records: dict[int, dict] = {}
-    files: dict[int, Path] = {}
-    tasks: list[PointTask] = []
-    keep: set[str] = set()
+    hashes: list[str] = []
+    found: dict[str, xr.Dataset] = {}
+    tasks: dict[str, PointTask] = {}
     for index, assignments in enumerate(points):
-        name = f"point_{index:0{width}d}"
-        error_path = out / f"{name}.error.json"
         try:
             modified = apply_assignments(case, assignments, scene)
         except CaseError as error:
             digest = point_hash(case, scene, formulation + json.dumps(assignments))
+            hashes.append(digest)
+            error_path = _error_path(out, digest)
             task = PointTask(
-                index, case, scene, formulation, assignments, zipped, "", str(error_path), digest
+                index, case, scene, formulation, assignments, "", str(error_path), digest
             )
             write_error_record(error_path, task, str(error))
             records[index] = {"index": index, "status": "failed", "error": str(error)}
-            keep.add(error_path.name)
             continue
         digest = point_hash(modified, scene, formulation)
-        path = out / f"{name}_{digest}.nc"
-        earlier = existing.get(digest)
-        if earlier is not None and earlier != path and _stored_hash(earlier) == digest:
-            os.replace(earlier, path)  # the same point at another index (a changed grid)
-        files[index] = path
-        keep.add(path.name)
-        if path.is_file() and _stored_hash(path) == digest:
-            records[index] = {"index": index, "status": "reused"}
+        hashes.append(digest)
+        if digest in found or digest in tasks:  # a zipped sweep may repeat a pair
             continue
-        keep.add(error_path.name)  # an earlier failure stays until the point succeeds
-        tasks.append(
-            PointTask(
-                index,
-                modified,
-                scene,
-                formulation,
-                assignments,
-                zipped,
-                str(path),
-                str(error_path),
-                digest,
-                attrs,
-            )
+        data = _reusable_point(out, digest)
+        if data is not None:
+            found[digest] = data
+            continue
+        tasks[digest] = PointTask(
+            index,
+            modified,
+            scene,
+            formulation,
+            assignments,
+            str(_point_path(out, digest)),
+            str(_error_path(out, digest)),
+            digest,
+            attrs,
         )
-    _remove_stale(out, keep)
-    return records, files, tasks
+    return records, hashes, found, list(tasks.values())
 
 
-def _run_tasks(client, tasks: list[PointTask], advance: Callable[[int], None]):
+def _run_tasks(client, tasks: list[PointTask]):
     """Submit the points, yield their records as they finish (failures included)."""
     from distributed import as_completed
 
+    run = uuid.uuid4().hex[:12]  # another sweep on the same scheduler has its own tasks
     futures = client.map(
-        run_point, tasks, key=[f"pygear-point-{t.index}-{t.point_hash}" for t in tasks], pure=False
+        run_point, tasks, key=[f"pygear-point-{t.point_hash}-{run}" for t in tasks], pure=False
     )
     owner = {future.key: task for future, task in zip(futures, tasks)}
     finished = as_completed(futures, with_results=True, raise_errors=False, loop=client.loop)
-    for done, (future, result) in enumerate(finished, start=1):
+    for future, result in finished:
         if future.status == "finished":
-            record = result
-        else:  # e.g. a worker that died on the point: (type, error, traceback) or cancelled
-            task = owner[future.key]
-            error = result[1] if isinstance(result, tuple) else result
-            message = f"the task did not finish: {error_message(error)}"
-            write_error_record(task.error_path, task, message)
-            record = {"index": task.index, "status": "failed", "error": message}
-        advance(done)
-        yield record
+            yield result
+            continue
+        # e.g. a worker that died on the point: (type, error, traceback) or cancelled
+        task = owner[future.key]
+        error = result[1] if isinstance(result, tuple) else result
+        message = f"the task did not finish: {error_message(error)}"
+        write_error_record(task.error_path, task, message)
+        yield {
+            "index": task.index,
+            "point_hash": task.point_hash,
+            "status": "failed",
+            "error": message,
+        }
+
+
+def _placed(data: xr.Dataset, assignments: Mapping, zipped: bool, index: int) -> xr.Dataset:
+    """A point's results placed where this sweep has them: on ``point=[index]`` when
+    zipped, else on a length-1 dimension per parameter.  The placement stored in the
+    file (by whichever sweep wrote it) is taken off first."""
+    stored = json.loads(data.attrs.get("point_parameters", "{}"))
+    data = data.isel({name: 0 for name in stored if name in data.dims}, drop=True)
+    data = data.drop_vars([name for name in stored if name in data.variables])
+    if zipped:
+        return data.expand_dims(point=[index])
+    return data.expand_dims({path: [value] for path, value in assignments.items()})
 
 
 def combine_points(
-    points: Sequence[xr.Dataset | Path],
+    points: Mapping[int, xr.Dataset | Path],
+    assignments: Sequence[Mapping],
     parameters: Sequence[SweepParameter],
     zipped: bool,
     records: Mapping[int, dict],
     n_points: int,
 ) -> xr.Dataset:
-    """One dataset from the points (their datasets or files), on the full grid (or point
-    list) of the sweep.
+    """One dataset from the points (their datasets or files, by index), on the full
+    grid (or point list) of the sweep.
 
-    Points without a file (failed) hold NaN (empty text for text variables);
-    ``point_status`` and ``point_error`` say what happened at every point.
+    Every point is placed by its own parameter values, ``assignments[index]``, never by
+    the index its file was written for.  Points without results (failed) hold NaN
+    (empty text for text variables); ``point_status`` and ``point_error`` say what
+    happened at every point.
     """
     if points:
         # what open_mfdataset(files, combine="by_coords") does, without dask arrays
         datasets = []
         with task_files():
-            for point in points:
-                if isinstance(point, xr.Dataset):
-                    datasets.append(point)
-                    continue
-                with xr.open_dataset(point, engine="netcdf4") as opened:
-                    datasets.append(opened.load())
+            for index, point in sorted(points.items()):
+                if not isinstance(point, xr.Dataset):
+                    with xr.open_dataset(point, engine="netcdf4") as opened:
+                        point = opened.load()
+                datasets.append(_placed(point, assignments[index], zipped, index))
         data = xr.combine_by_coords(
             datasets,
             data_vars="all",

@@ -1,6 +1,10 @@
 """One point of a parameter sweep: checking the parameters, hashing a point's inputs,
 and running its analyses into a NetCDF file (:func:`run_point`, a Dask task).
 
+A point is known by its input hash (:func:`point_hash`), never by its place in a
+sweep: its file holds its parameter values on length-1 dimensions, and a sweep of
+either layout places it on its own grid or point list when it combines the files.
+
 :mod:`pygear.sweep` plans the points, runs them on Dask and combines the files.
 """
 
@@ -25,11 +29,12 @@ from .case import FORMULATIONS, Case, Scene, check_choice, get_parameter
 from .case import replace_parameter as _replace
 from .cluster import task_files
 from .components import CaseError
-from .io import atomic_path, write_netcdf
+from .io import atomic_path, source_identity, write_netcdf
 from .modal import modal_analysis
 from .sensitivity import frequency_sensitivity, parse_values
 
 __all__ = [
+    "NAN_IS_A_RESULT",
     "POINT_ANALYSES",
     "PointTask",
     "SweepParameter",
@@ -43,8 +48,12 @@ __all__ = [
     "write_error_record",
 ]
 
-SWEEP_FORMAT = "1"
+SWEEP_FORMAT = "2"
 """Version of the point files; part of every point hash, so a change reruns the points."""
+
+NAN_IS_A_RESULT = {"t_s": "the input speed never reaches omega_0 in the run"}
+"""Point variables where NaN is an answer; NaN anywhere else marks a point file that
+a rerun does not trust (it runs the point again)."""
 
 _UNITS = {
     "stiffness": "N/m",
@@ -219,8 +228,10 @@ def apply_assignments(
 
 def point_hash(case: Case, scene: Scene, formulation: str) -> str:
     """Hash of a point's inputs: the modified case, the scene, the formulation, the
-    pygear version and the point-file format."""
-    text = "\n".join([repr(case), repr(scene), formulation, __version__, SWEEP_FORMAT])
+    pygear version, the identity of its Python and Fortran sources
+    (:func:`pygear.io.source_identity`) and the point-file format."""
+    identity = source_identity()
+    text = "\n".join([repr(case), repr(scene), formulation, __version__, identity, SWEEP_FORMAT])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -275,14 +286,17 @@ RETURN_LIMIT = 1_000_000
 
 @dataclass(frozen=True)
 class PointTask:
-    """Everything one point needs; run by :func:`run_point` on a Dask worker."""
+    """Everything one point needs; run by :func:`run_point` on a Dask worker.
+
+    ``index`` is the point's place in the sweep that runs it (for its record only);
+    ``path`` and ``error_path`` are named by ``point_hash``.
+    """
 
     index: int
     case: Case
     scene: Scene
     formulation: str
     assignments: dict
-    zipped: bool
     path: str
     error_path: str
     point_hash: str
@@ -295,8 +309,9 @@ def run_point(task: PointTask) -> dict:
     Returns
     -------
     dict
-        ``index``, ``status`` ("computed" or "failed"), ``wall_s``, ``error``, and the
-        point's dataset as ``data`` when it is small (:data:`RETURN_LIMIT`).
+        ``index``, ``point_hash``, ``status`` ("computed" or "failed"), ``wall_s``,
+        ``error``, and the point's dataset as ``data`` when it is small
+        (:data:`RETURN_LIMIT`).
     """
     started = time.perf_counter()
     try:
@@ -312,7 +327,6 @@ def run_point(task: PointTask) -> dict:
         data.attrs.update(dict(task.attrs))
         data.attrs.update(
             {
-                "point_index": task.index,
                 "point_hash": task.point_hash,
                 "point_parameters": json.dumps(task.assignments),
             }
@@ -321,13 +335,14 @@ def run_point(task: PointTask) -> dict:
             write_netcdf(
                 data,
                 task.path,
-                title=f"Sweep point {task.index} of {task.case.name}, scene {task.scene.name}",
+                title=f"Sweep point {task.point_hash} of {task.case.name}, scene {task.scene.name}",
                 input_hash=task.case.input_hash(),
             )
         if os.path.exists(task.error_path):
             os.remove(task.error_path)
         record = {
             "index": task.index,
+            "point_hash": task.point_hash,
             "status": "computed",
             "wall_s": time.perf_counter() - started,
         }
@@ -339,6 +354,7 @@ def run_point(task: PointTask) -> dict:
         write_error_record(task.error_path, task, message, traceback.format_exc())
         return {
             "index": task.index,
+            "point_hash": task.point_hash,
             "status": "failed",
             "wall_s": time.perf_counter() - started,
             "error": message,
@@ -352,22 +368,16 @@ def error_message(error: BaseException) -> str:
 
 
 def _place_point(data: xr.Dataset, task: PointTask) -> xr.Dataset:
-    """Give the point's parameter values as coordinates on length-1 dimensions."""
-    if task.zipped:
-        data = data.expand_dims(point=[task.index])
-        data["point"].attrs["long_name"] = "sweep point (zipped parameters)"
-        return data.assign_coords(
-            {path: ("point", [value]) for path, value in task.assignments.items()}
-        )
+    """Give the point's parameter values as coordinates on length-1 dimensions (in
+    either layout: a point file belongs to no sweep in particular)."""
     return data.expand_dims({path: [value] for path, value in task.assignments.items()})
 
 
 def write_error_record(
     path: str | os.PathLike, task: PointTask, message: str, trace: str | None = None
 ) -> None:
-    """Write ``point_<index>.error.json``: the message, the parameters and the hash."""
+    """Write ``point_<hash>.error.json``: the message, the parameters and the hash."""
     record = {
-        "index": task.index,
         "parameters": task.assignments,
         "error": message,
         "case": task.case.name,

@@ -77,7 +77,7 @@ def test_grid_sweep_matches_serial_runs(tmp_path, scheduler):
                 point.frequency.values, expected.frequency.values, rtol=1e-10
             )
             assert list(point.mode_class.values) == list(expected.mode_class.values)
-    # the point files combine by themselves, and sweep.nc holds the same
+    # the point files combine by themselves, and the combined file holds the same
     files = sorted(tmp_path.glob("point_*.nc"))
     assert len(files) == 6
     with xr.open_mfdataset(
@@ -90,7 +90,9 @@ def test_grid_sweep_matches_serial_runs(tmp_path, scheduler):
     ) as opened:
         assert opened.sizes[SUN] == 3 and opened.sizes[RING] == 2
         np.testing.assert_allclose(opened.frequency.values, result.frequency.values, rtol=1e-12)
-    with xr.open_dataset(tmp_path / "sweep.nc") as written:
+    combined = Path(result.attrs["path"])
+    assert combined.parent == tmp_path and combined.name.startswith("sweep_")
+    with xr.open_dataset(combined) as written:
         np.testing.assert_allclose(written.frequency.values, result.frequency.values, rtol=1e-12)
         assert written[SUN].attrs["units"] == "N/m"
 
@@ -164,7 +166,8 @@ def test_rerun_computes_only_missing_points(tmp_path, scheduler):
     )
     third = sweep_6(edited, tmp_path, scheduler)
     assert third.attrs["points_computed"] == 6 and third.attrs["points_reused"] == 0
-    assert len(list(tmp_path.glob("point_*.nc"))) == 6  # the stale files are gone
+    # the first sweep's files stay beside the new ones: nothing is deleted
+    assert len(list(tmp_path.glob("point_*.nc"))) == 12
     assert not np.allclose(third.frequency.values, first.frequency.values)
 
 
@@ -185,12 +188,13 @@ def test_failing_points_fail_alone(tmp_path, scheduler):
     assert np.isfinite(result.frequency.values[1, 0]).all()
     assert np.isnan(result.frequency.values[1, 1]).all()
     assert "must be a positive finite number" in result.point_error.values[0, 0]
-    record = json.loads((tmp_path / "point_0000.error.json").read_text())
+    hashes = result.point_hash.values
+    record = json.loads((tmp_path / f"point_{hashes[0, 0]}.error.json").read_text())
     assert record["parameters"] == {SUN: -1e8, "planetary.sun_bearing.torsional": 0.0}
     assert SUN in record["error"] and "positive" in record["error"]
-    worker_side = json.loads((tmp_path / "point_0003.error.json").read_text())
+    worker_side = json.loads((tmp_path / f"point_{hashes[1, 1]}.error.json").read_text())
     assert worker_side["error"] == str(result.point_error.values[1, 1]) != ""
-    with xr.open_dataset(tmp_path / "sweep.nc") as written:
+    with xr.open_dataset(result.attrs["path"]) as written:
         assert written.point_status.values[1, 0] == "computed"
 
 
