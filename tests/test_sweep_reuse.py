@@ -206,3 +206,20 @@ def test_out_must_be_a_directory(tmp_path):
     with pytest.raises(CaseError, match="--out .* is a file"):
         batch.HANDLERS["sweep"](args)
     assert out.read_text() == "not a sweep"
+
+
+def test_nan_is_trusted_only_where_it_is_an_answer(tmp_path):
+    """A run-up that never reaches its speed has t_s = NaN: its file is reused; NaN in
+    a mesh force is no answer, and that file runs again."""
+    digest = "0123456789abcdef"
+    point = xr.Dataset(
+        {"t_s": ((), np.nan), "sun_mesh_force_rms": ((), 12.5)},
+        attrs={"point_hash": digest, "point_parameters": json.dumps({SUN: 1e8})},
+    )
+    point.to_netcdf(tmp_path / f"point_{digest}.nc")
+    reused = sweep._reusable_point(tmp_path, digest)
+    assert reused is not None and np.isnan(float(reused.t_s))
+    assert sweep._reusable_point(tmp_path, "fedcba9876543210") is None  # no such file
+    point["sun_mesh_force_rms"] = ((), np.nan)
+    point.to_netcdf(tmp_path / f"point_{digest}.nc")
+    assert sweep._reusable_point(tmp_path, digest) is None
