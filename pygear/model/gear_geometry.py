@@ -135,6 +135,10 @@ class MeshGeometry:
     working_pressure_angle_deg: float | None = None
     thickness_allowances: tuple[float, float] = (0.0, 0.0)
 
+    def __post_init__(self) -> None:
+        if isinstance(self.thickness_allowances, list):
+            object.__setattr__(self, "thickness_allowances", tuple(self.thickness_allowances))
+
     @property
     def internal(self) -> bool:
         """True for an internal mesh (gear 2 is a ring)."""
