@@ -595,19 +595,21 @@ def write_mesh_stiffness(
     duration : float, optional
         Length of the run [s]; see :func:`mesh_stiffness_at_constant_speed`.
     out_path : str or path
-        Target ``.nc`` file.
+        Target ``.nc`` file (another suffix is refused with :class:`CaseError`).
 
     Returns
     -------
     xarray.Dataset
         The dataset as written.
     """
-    from .io import atomic_path, write_netcdf
+    from .io import atomic_path, check_suffix, write_netcdf
     from .plots_mesh import plot_mesh_stiffness
 
+    out_path = Path(out_path)
+    # the figure goes to <out stem>.png: any other suffix could name it, or another kind
+    check_suffix("out_path", out_path, ".nc", "the mesh stiffness as NetCDF (figure beside)")
     case = case_ref if isinstance(case_ref, Case) else load_case(case_ref)
     dataset = mesh_stiffness_at_constant_speed(case, carrier_speed_rpm=speed_rpm, duration=duration)
-    out_path = Path(out_path)
     write_netcdf(
         dataset,
         out_path,

@@ -12,15 +12,28 @@ import functools
 import hashlib
 import importlib
 import os
+import signal
 import subprocess
 import tempfile
+import threading
 from pathlib import Path
 
 import xarray as xr
 
 from . import __version__
 
-__all__ = ["atomic_path", "source_identity", "source_string", "write_netcdf"]
+__all__ = [
+    "WriteInterrupted",
+    "atomic_path",
+    "check_suffix",
+    "save_figure",
+    "signals_interrupt",
+    "source_identity",
+    "source_string",
+    "stable_digest",
+    "write_netcdf",
+    "write_npz",
+]
 
 
 @functools.lru_cache(maxsize=1)
@@ -70,20 +83,164 @@ def source_identity() -> str:
     return digest.hexdigest()[:16]
 
 
+def stable_digest(value: object) -> str:
+    """Hash (16 hex digits) of ``value``, the same in every process.
+
+    Dataclasses are taken field by field, mappings in key order, arrays by dtype,
+    shape and every byte (a repr would elide the middle of a long array), floats by
+    their exact repr.
+    """
+    return hashlib.sha256(repr(_canonical(value)).encode()).hexdigest()[:16]
+
+
+def _canonical(value: object) -> object:
+    import dataclasses
+
+    import numpy as np
+
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return (
+            type(value).__name__,
+            tuple((f.name, _canonical(getattr(value, f.name))) for f in dataclasses.fields(value)),
+        )
+    if isinstance(value, np.ndarray):
+        data = np.ascontiguousarray(value)
+        return ("ndarray", data.dtype.str, data.shape, hashlib.sha256(data.tobytes()).hexdigest())
+    if isinstance(value, dict):
+        return ("dict", tuple(sorted((repr(k), _canonical(v)) for k, v in value.items())))
+    if isinstance(value, (list, tuple)):
+        return (type(value).__name__, tuple(_canonical(v) for v in value))
+    if isinstance(value, (set, frozenset)):
+        return ("set", tuple(sorted(repr(_canonical(v)) for v in value)))
+    if isinstance(value, (float, np.floating)):
+        return float(value).hex()
+    return repr(value)
+
+
+class WriteInterrupted(KeyboardInterrupt):
+    """SIGTERM or Ctrl-C arrived while a file was written; its temporary was removed.
+
+    Attributes
+    ----------
+    signal_number : int
+        The signal (SIGTERM, or SIGINT for Ctrl-C).
+    """
+
+    def __init__(self, message: str = "", signal_number: int = signal.SIGINT) -> None:
+        super().__init__(message)
+        self.signal_number = int(signal_number)
+
+
+_DEFAULT_HANDLERS = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+
+
+@contextlib.contextmanager
+def signals_interrupt():
+    """Turn SIGTERM and Ctrl-C into :class:`WriteInterrupted` while the block runs.
+
+    SIGTERM's default action ends the process at once, past every ``finally``: a file
+    being written would stay behind under its temporary name.  Raised as an exception
+    instead, the writer's clean-up runs.  Only signals still at their default handler
+    are taken (a handler a run installed, such as the deferred interrupt of
+    :mod:`pygear.newmark`, stays in force), and only in the main thread.  A second
+    signal while the first unwinds is ignored, so the clean-up completes.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    raised: list[int] = []
+
+    def handler(signum, frame):
+        if raised:
+            return
+        raised.append(signum)
+        name = signal.Signals(signum).name
+        raise WriteInterrupted(f"interrupted by {name}; the file being written was removed", signum)
+
+    previous = {
+        number: signal.getsignal(number)
+        for number, default in _DEFAULT_HANDLERS.items()
+        if signal.getsignal(number) is default
+    }
+    for number in previous:
+        signal.signal(number, handler)
+    try:
+        yield
+    finally:
+        for number, restored in previous.items():
+            signal.signal(number, restored)
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike):
-    """Yield a temporary path beside ``path``; rename it to ``path`` on success only."""
+    """Yield a temporary path beside ``path``; rename it to ``path`` on success only.
+
+    The temporary (``.<name>.<random>.part``) is flushed to disk before the rename, so
+    a full disk fails the write instead of leaving a short file under the final name,
+    and it is removed on any exception, Ctrl-C or SIGTERM (see :func:`signals_interrupt`).
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(handle)
+    with signals_interrupt():
+        temporary = None
+        try:
+            handle, temporary = tempfile.mkstemp(
+                prefix=f".{path.name}.", suffix=".part", dir=path.parent
+            )
+            os.close(handle)
+            yield Path(temporary)
+            os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes files private
+            _flush_to_disk(temporary)
+            os.replace(temporary, path)
+        finally:
+            if temporary is not None:
+                with contextlib.suppress(FileNotFoundError):
+                    os.remove(temporary)
+
+
+def _flush_to_disk(path: str) -> None:
+    """fsync ``path``: a delayed write error (no space left) surfaces here, not later."""
+    descriptor = os.open(path, os.O_RDONLY)
     try:
-        yield Path(temporary)
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes files private
-        os.replace(temporary, path)
+        os.fsync(descriptor)
     finally:
-        if os.path.exists(temporary):
-            os.remove(temporary)
+        os.close(descriptor)
+
+
+def check_suffix(option: str, path: str | os.PathLike, suffix: str, what: str) -> None:
+    """Raise :class:`~pygear.components.CaseError` unless ``path`` ends in ``suffix``.
+
+    A command writes one kind of file; a target named as another kind (a figure name
+    for NetCDF data) is refused before any work, so no file is overwritten by a
+    file of another kind.
+    """
+    from .components import CaseError
+
+    path = Path(path)
+    if path.suffix.lower() != suffix:
+        raise CaseError(
+            f"{option} {str(path)!r} must end in {suffix}: {what} is written there "
+            f"(got {path.suffix or 'no suffix'})"
+        )
+
+
+def write_npz(path: str | os.PathLike, **arrays) -> Path:
+    """Write ``arrays`` to an ``.npz`` file atomically (see :func:`atomic_path`)."""
+    import numpy as np
+
+    path = Path(path)
+    with atomic_path(path) as temporary, open(temporary, "wb") as handle:
+        np.savez(handle, **arrays)
+    return path
+
+
+def save_figure(figure, path: str | os.PathLike, **options) -> Path:
+    """Save a matplotlib ``figure`` atomically; the format follows ``path``'s suffix."""
+    path = Path(path)
+    options.setdefault("format", path.suffix.lstrip(".").lower() or "png")
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, **options)
+    return path
 
 
 def _umask() -> int:

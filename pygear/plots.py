@@ -15,6 +15,7 @@ from matplotlib.patches import Circle  # noqa: E402
 
 from .assembly import Model  # noqa: E402
 from .case import Case  # noqa: E402
+from .io import save_figure  # noqa: E402
 
 __all__ = ["plot_frequency_sweep", "plot_modal_energy", "plot_mode_shape"]
 
@@ -66,7 +67,7 @@ def plot_modal_energy(modal: xr.Dataset, path: str | os.PathLike) -> None:
         fontsize=9,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
     plt.close(fig)
 
 
@@ -141,7 +142,7 @@ def plot_mode_shape(
         f"{modal.frequency.values[mode]:.1f} Hz ({model.formulation})"
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
     plt.close(fig)
 
 
@@ -183,5 +184,5 @@ def plot_frequency_sweep(sweep: xr.Dataset, path: str | os.PathLike) -> None:
     ]
     axes.flat[-1].legend(handles=handles, fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
     plt.close(fig)

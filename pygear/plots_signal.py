@@ -10,6 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from .analyze import RunAnalysis  # noqa: E402
+from .io import save_figure  # noqa: E402
 
 __all__ = ["plot_run_analysis"]
 
@@ -55,5 +56,5 @@ def plot_run_analysis(
         _label_peaks(ax, analysis.peaks[name], limit)
     axes[-1].set_xlabel("frequency [Hz]")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)  # atomic: no half-written figure
     plt.close(fig)
