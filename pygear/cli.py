@@ -21,7 +21,6 @@ from .io import write_netcdf
 from .kernel import KernelError
 from .modal import modal_analysis
 from .outputs import (
-    mesh_frequency,
     write_modal_outputs,
     write_run_signals,
     write_signal_analysis,
@@ -156,6 +155,9 @@ def main(argv: list[str] | None = None) -> int:
     except (CaseError, KernelError, SignalError) as error:
         print(f"pygear {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as interrupt:  # Ctrl-C, or SIGTERM while a file is written
+        print(f"pygear {args.command}: {interrupt or 'interrupted'}", file=sys.stderr)
+        return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
 
 
 def _modal_summary(modal) -> dict:
@@ -230,10 +232,12 @@ def _finite_list(values: np.ndarray) -> list[float]:
 
 
 def _matrices(args: argparse.Namespace) -> int:
+    from .io import check_suffix, write_npz
+
+    check_suffix("--out", args.out, ".npz", "a NumPy archive of M, K, C and the DOF labels")
     case = load_case(args.case)
     model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(
+    write_npz(
         args.out,
         M=model.mass,
         K=model.stiffness,
@@ -293,28 +297,33 @@ def _sensitivity(args: argparse.Namespace) -> int:
 def _analyze(args: argparse.Namespace) -> int:
     import xarray as xr
 
+    from .analyze import pick_channel
+    from .outputs import stored_references
     from .peaks import peak_table_text
 
     if not args.run.is_file():
         raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
+    if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):
+        raise CaseError(
+            f"--out {str(args.out)!r} is an output stem: STEM_<channel>.nc and .png are "
+            f"written (drop the {args.out.suffix})"
+        )
     with xr.open_dataset(args.run) as opened:
         run = opened.load()
-    case, natural = None, None
-    if "case" in run.attrs:
-        try:
-            case = load_case(run.attrs["case"])
-            natural = modal_analysis(assemble(case, formulation=run.attrs.get("formulation")))
-        except CaseError:
-            case = None  # the case is not at hand: peaks go unnamed
+    # the run file carries its own frequencies: nothing is loaded from the case it names
+    natural, stored_mesh_frequency = stored_references(run, args.run)
     stem = args.out or args.run.with_name(args.run.stem)
+    channel = pick_channel(run, args.channel)
+    if stem.with_name(f"{stem.name}_{channel}.nc").resolve() == args.run.resolve():
+        raise CaseError(f"--out {str(stem)!r} would write the spectra over RUN.nc itself")
     analysis, files = write_signal_analysis(
         run,
         stem,
-        channel=args.channel,
+        channel=channel,
         band=args.band,
         after=args.after,
         natural=natural,
-        mesh_frequency=args.mesh_frequency or mesh_frequency(case, run),
+        mesh_frequency=args.mesh_frequency or stored_mesh_frequency,
     )
     if args.json:
         print(json.dumps({**analysis.summary(), "files": [str(f) for f in files]}))
@@ -327,7 +336,9 @@ def _analyze(args: argparse.Namespace) -> int:
 
 def _mesh_stiffness(args: argparse.Namespace) -> int:
     from .contact import write_mesh_stiffness
+    from .io import check_suffix
 
+    check_suffix("--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)")
     if not np.isfinite(args.speed) or args.speed == 0:
         raise CaseError(
             f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"

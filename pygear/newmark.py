@@ -36,6 +36,7 @@ from .newmark_support import (
     PhysicalInstabilityError,
     TransientError,
     TransientInterrupted,
+    checkpoint_key,
     deferred_interrupt,
     growth_diagnostic,
     kernel_error,
@@ -448,6 +449,7 @@ class BandedNewmark:
         checkpoint: str | os.PathLike | None = None,
         checkpoint_every: float = 60.0,
         resume: str | os.PathLike | None = None,
+        identity: str = "",
     ) -> RunResult:
         """Integrate ``n_steps`` steps and record ``probes`` every ``decimation`` steps.
 
@@ -471,10 +473,15 @@ class BandedNewmark:
         chunk_seconds : float
             Target wall time of one kernel call [s].
         checkpoint : path, optional
-            Write the whole state here every ``checkpoint_every`` seconds and on Ctrl-C
-            or SIGTERM.
+            Write the whole state here every ``checkpoint_every`` seconds, on Ctrl-C or
+            SIGTERM, and once the last step is taken (so a finished run survives until
+            its caller has written the result and removes the file).
         resume : path, optional
             Continue from a checkpoint written by the same settings.
+        identity : str
+            What else shapes the state and the outputs and the matrices do not show
+            (the case, the scene, the code version); a checkpoint of another identity
+            is refused.
 
         Raises
         ------
@@ -483,7 +490,7 @@ class BandedNewmark:
             message names the time, the DOF or mesh and the likely cause.
         TransientInterrupted
             Ctrl-C or SIGTERM; the run stopped between two chunks (state checkpointed
-            if asked).
+            if asked), or after its last step when a checkpoint holds it.
         """
         if n_steps < 1 or decimation < 1:
             raise ValueError("n_steps and decimation must be >= 1")
@@ -500,11 +507,17 @@ class BandedNewmark:
             if probes
             else self._probe_arguments([KernelProbe("none", "drive_torque")])
         )
-        key = self._settings_key(n_steps, decimation, window_steps, probes)
+        key = checkpoint_key(
+            (*self.bands.values(), self.rparam, self.iparam, *self.arguments.values()),
+            (n_steps, decimation, window_steps, identity),
+            probes,
+            (*probe_args.values(), *(x for x in (q0, v0, a0) if x is not None)),
+        )
         if resume is not None:
             state, written = load_checkpoint(resume, key, samples)
         else:
             state, written = self.start(q0, v0, a0), 0
+        saved_step = int(state["istate"][ISTATE_LAYOUT.index("step")]) if resume is not None else -1
         if "rigid_offset" not in state:
             state.update(self.rebase.initial_state(self.arguments))
         rigid_probes = [
@@ -548,15 +561,16 @@ class BandedNewmark:
                 now = time.perf_counter()
                 if checkpoint is not None and now - last_checkpoint >= checkpoint_every:
                     save_checkpoint(checkpoint, key, state, samples[:, :written], written)
-                    last_checkpoint = now
+                    last_checkpoint, saved_step = now, int(state["istate"][step_of])
                 if interrupted.is_set():
                     break
-            if interrupted.is_set() and state["istate"][step_of] < n_steps:
-                done = int(state["istate"][step_of])
-                where = ""
-                if checkpoint is not None:
-                    save_checkpoint(checkpoint, key, state, samples[:, :written], written)
-                    where = f"; state saved to {checkpoint}"
+            done = int(state["istate"][step_of])
+            if checkpoint is not None and saved_step != done:  # mid-run, or the finished run
+                save_checkpoint(checkpoint, key, state, samples[:, :written], written)
+            # a signal in the last chunk stops a checkpointed run too: the finished state is
+            # saved, and the result is written on resuming; without a checkpoint it goes on
+            if interrupted.is_set() and (done < n_steps or checkpoint is not None):
+                where = f"; state saved to {checkpoint}" if checkpoint is not None else ""
                 number = interrupted.signal_number
                 raise TransientInterrupted(
                     f"interrupted at t = {done * self.time_step:.6g} s (step {done} of "
@@ -626,17 +640,6 @@ class BandedNewmark:
             **probe_args,
         )
         return int(n_written), int(bad), int(ierr)
-
-    def _settings_key(self, n_steps, decimation, window_steps, probes) -> str:
-        import hashlib
-
-        digest = hashlib.sha256()
-        for array in (*self.bands.values(), self.rparam, self.iparam):
-            digest.update(np.ascontiguousarray(array).tobytes())
-        for value in self.arguments.values():
-            digest.update(np.ascontiguousarray(value).tobytes())
-        digest.update(repr((n_steps, decimation, window_steps, [p.name for p in probes])).encode())
-        return digest.hexdigest()[:16]
 
     def _physical_growth(
         self,

@@ -26,6 +26,7 @@ __all__ = [
     "PhysicalInstabilityError",
     "TransientError",
     "TransientInterrupted",
+    "checkpoint_key",
     "deferred_interrupt",
     "growth_diagnostic",
     "kernel_error",
@@ -383,6 +384,35 @@ def deferred_interrupt():
     finally:
         for number, handler in previous.items():
             signal.signal(number, handler)
+
+
+def checkpoint_key(
+    arrays: Sequence, settings: tuple, probes: Sequence, probe_arrays: Sequence
+) -> str:
+    """Hash (16 hex digits) of everything that shapes a run's state and its samples.
+
+    Parameters
+    ----------
+    arrays : sequence of array-like
+        The solver's matrices, parameters and mesh arrays.
+    settings : tuple
+        Steps, decimation, averaging window and the caller's identity string.
+    probes : sequence of KernelProbe
+        The channels: each one's name, kind, mesh and attributes (units, target).
+    probe_arrays : sequence of array-like
+        The kernel's probe arrays (kinds, weights and the DOFs they act on) and any
+        initial state given, so a probe retargeted under the same name differs.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    for array in (*arrays, *probe_arrays):
+        array = np.ascontiguousarray(array)
+        digest.update(f"{array.dtype.str}{array.shape}".encode())
+        digest.update(array.tobytes())
+    channels = [(p.name, p.kind, p.mesh, sorted(p.attrs.items())) for p in probes]
+    digest.update(repr((settings, channels)).encode())
+    return digest.hexdigest()[:16]
 
 
 def save_checkpoint(path, key: str, state: dict, samples: np.ndarray, written: int) -> None:

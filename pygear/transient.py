@@ -10,8 +10,10 @@ speed figure beside it.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -24,7 +26,14 @@ from .assembly import Model, assemble
 from .case import Case, Scene
 from .components import CaseError, PlanetaryStage
 from .effects import effect_attributes
-from .newmark import BandedNewmark, KernelProbe, LawArrays, MeshTerms, RunResult
+from .newmark import (
+    BandedNewmark,
+    KernelProbe,
+    LawArrays,
+    MeshTerms,
+    RunResult,
+    TransientInterrupted,
+)
 from .probes import RPM_PER_RAD_S, compile_probes, dof_row, rigid_rotation, state_probes
 from .transient_settings import TorqueLaw, Transient
 
@@ -292,6 +301,7 @@ def run_transient(
     started = time.perf_counter()
     problem = problem or transient_problem(case, scene, formulation=formulation)
     settings = problem.settings
+    keyed = checkpoint is not None or resume is not None
     result = problem.solver.run(
         settings.steps,
         problem.probes,
@@ -301,10 +311,35 @@ def run_transient(
         checkpoint=checkpoint,
         checkpoint_every=checkpoint_every,
         resume=resume,
+        identity=checkpoint_identity(problem) if keyed else "",
     )
     dataset = _dataset(problem, result)
     dataset.attrs["wall_s"] = time.perf_counter() - started
     return dataset
+
+
+def checkpoint_identity(problem: TransientProblem) -> str:
+    """Hash (16 hex digits) of what shapes a run's state and file beyond the solver's
+    arrays: every input of the case and of the scene but its list of analyses (which
+    write other files), the model's formulation and DOF set, the members driven, and
+    the code (:func:`pygear.io.source_identity`).  A checkpoint keyed by it resumes
+    only the run that wrote it."""
+    from . import io
+
+    case = {f.name: getattr(problem.case, f.name) for f in dataclasses.fields(problem.case)}
+    case.pop("scenes", None)  # other scenes do not shape this one
+    scene = {f.name: getattr(problem.scene, f.name) for f in dataclasses.fields(problem.scene)}
+    scene.pop("analyses", None)
+    model = problem.model
+    return io.stable_digest(
+        (
+            case,
+            scene,
+            (model.formulation, model.dof_set, problem.input_label, problem.output_label),
+            (problem.ratio, problem.contact_sign, problem.effects),
+            io.source_identity(),
+        )
+    )
 
 
 def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
@@ -423,39 +458,81 @@ def write_transient(
 
     The file is written under a temporary name and renamed when complete; a run
     that fails or is interrupted writes nothing (but its checkpoint, when asked).
-    A checkpoint is removed once the result is written.
+    The file carries the frequencies ``pygear analyze`` names peaks with
+    (:func:`pygear.outputs.analysis_references`).  A checkpoint holds the finished
+    run until the result is written, and is removed then: Ctrl-C or SIGTERM while
+    writing removes the temporary file and keeps the checkpoint, from which a resumed
+    run writes the result without integrating again.
+
+    Raises
+    ------
+    TransientInterrupted
+        Ctrl-C or SIGTERM, during the run or while its files are written.
     """
-    from .io import write_netcdf
+    from .io import WriteInterrupted, signals_interrupt, write_netcdf
+    from .outputs import analysis_references
 
     directory = Path(directory)
-    problem = transient_problem(case, scene, formulation=formulation, model=model)
-    dataset = run_transient(
-        case,
-        scene,
-        progress=progress,
-        problem=problem,
-        checkpoint=checkpoint,
-        checkpoint_every=checkpoint_every,
-        resume=resume,
-    )
-    path = write_netcdf(
-        dataset,
-        directory / f"{scene.name}.nc",
-        title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
-        input_hash=case.input_hash(),
-    )
-    written = [path]
-    if figure and any(v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()):
-        from .io import atomic_path
-        from .plots_transient import plot_speeds
-
-        target = directory / f"{scene.name}_speeds.png"
-        with atomic_path(target) as temporary:
-            plot_speeds([dataset], temporary, format="png")
-        written.append(target)
+    stage = "setting up the run"
+    path = None
+    with signals_interrupt():  # a signal while writing raises, so temporaries are removed
+        try:
+            problem = transient_problem(case, scene, formulation=formulation, model=model)
+            dataset = run_transient(
+                case,
+                scene,
+                progress=progress,
+                problem=problem,
+                checkpoint=checkpoint,
+                checkpoint_every=checkpoint_every,
+                resume=resume,
+            )
+            stage = "writing the result"
+            dataset = dataset.merge(analysis_references(case, problem.model, dataset))
+            path = write_netcdf(
+                dataset,
+                directory / f"{scene.name}.nc",
+                title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
+                input_hash=case.input_hash(),
+            )
+            written = [path]
+            if figure and any(
+                v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()
+            ):
+                written.append(_write_speed_figure(dataset, directory / f"{scene.name}_speeds.png"))
+        except WriteInterrupted as interrupt:
+            raise TransientInterrupted(
+                _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
+            ) from None
     if checkpoint is not None:
         Path(checkpoint).unlink(missing_ok=True)
     return dataset, written
+
+
+def _write_speed_figure(dataset: xr.Dataset, target: Path) -> Path:
+    from .io import atomic_path
+    from .plots_transient import plot_speeds
+
+    with atomic_path(target) as temporary:
+        plot_speeds([dataset], temporary, format="png")
+    return target
+
+
+def _interrupted_writing(interrupt, stage: str, path: Path | None, checkpoint) -> str:
+    """One line on what a signal outside the integration left behind."""
+    name = signal.Signals(interrupt.signal_number).name
+    if stage != "writing the result":
+        return f"interrupted by {name} while {stage}; no result file written"
+    if path is not None:
+        return f"interrupted by {name} after writing {path}; its figure was not written"
+    if checkpoint is not None:
+        kept = (
+            f"the finished run is kept in {checkpoint}: `pygear run --resume` writes the "
+            "result from it without running again"
+        )
+    else:
+        kept = "the run is lost (no checkpoint: --checkpoint-every or --resume keeps one)"
+    return f"interrupted by {name} while writing the result; {kept}; no result file written"
 
 
 def transient_summary(dataset: xr.Dataset) -> dict:

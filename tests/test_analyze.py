@@ -14,6 +14,10 @@ from pygear.cli import main
 
 SAMPLE_RATE = 40000.0  # Hz, the paper's
 MESH = 192.0  # Hz, the study case's mesh frequency at 120 rpm
+# natural frequencies [Hz] of the study case, improved model (Yang, Jiang & Han 2016,
+# Table 2); the translational modes come in pairs
+ROTATIONAL_HZ = [0.0, 1334.0, 1891.3, 2662.8, 8045.4, 11822.3]
+TRANSLATIONAL_HZ = [743.2, 1102.7, 1896.5, 2276.5, 6989.0, 9651.7]
 
 
 @pytest.fixture()
@@ -27,12 +31,22 @@ def run_file(tmp_path):
         + 0.3 * np.sin(2 * np.pi * 1334.0 * time)
         + 0.05 * rng.standard_normal(time.size)
     )
+    natural = ROTATIONAL_HZ + 2 * TRANSLATIONAL_HZ
+    classes = ["rotational"] * 6 + ["translational"] * 12
     run = xr.Dataset(
         {
             "carrier_speed": ("time", np.full(time.size, 120.0), {"units": "rpm"}),
             "ring_y_acceleration": ("time", acceleration, {"units": "m/s^2"}),
+            # what `pygear run` stores for the analysis: natural and mesh frequencies
+            "natural_frequency": ("mode", natural, {"units": "Hz"}),
+            "mesh_frequency": ("mesh_stage", [MESH], {"units": "Hz", "gearbox_stages": 1}),
+            "mesh_teeth": ("mesh_stage", [96], {"units": "1"}),
         },
-        coords={"time": ("time", time, {"units": "s"})},
+        coords={
+            "time": ("time", time, {"units": "s"}),
+            "mode_class": ("mode", classes),
+            "mesh_stage": ("mesh_stage", ["planetary"]),
+        },
         attrs={"case": "yang2016_planetary", "formulation": "improved", "mesh_frequency_hz": MESH},
     )
     path = tmp_path / "run.nc"
