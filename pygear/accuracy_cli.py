@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 from collections.abc import Callable
 from pathlib import Path
 
@@ -17,6 +16,7 @@ import xarray as xr
 
 from .case import FORMULATIONS
 from .components import CaseError
+from .json_output import json_text
 
 __all__ = ["HANDLERS", "add_parser", "parse_tolerance", "write_accuracy"]
 
@@ -116,7 +116,7 @@ def _accuracy(args: argparse.Namespace) -> int:
             f: {k: ds.attrs[f"recommendation_{f}_{k}"] for k in keys}
             for f in ds.formulation.values.tolist()
         }
-        print(json.dumps({"recommendation": summary, "files": [str(p) for p in files]}))
+        print(json_text({"recommendation": summary, "files": [str(p) for p in files]}))
         return 0
     print(accuracy_table_text(ds))
     print(f"ladder wall time {ds.attrs['study_wall_s']:.1f} s on {args.workers} worker(s)")

@@ -14,10 +14,15 @@ from .assembly import Model, assemble
 from .case import Case, Scene, get_parameter, replace_parameter
 from .components import CaseError
 from .modal import modal_analysis, model_attributes, solve_eigenproblem
+from .resources import require_memory
 
 __all__ = ["frequency_sensitivity", "frequency_sweep", "parse_values"]
 
 _RANGE = re.compile(r"^\s*(linspace|logspace)\s*\((.*)\)\s*$")
+
+_BYTES_PER_VALUE = 8 + 8 + 24
+"""Memory of one parsed value: the float64 array linspace builds, and the Python float
+(24 bytes) with its list pointer (8 bytes) the values are gathered in."""
 
 
 def parse_values(items: str | Sequence[str], name: str = "--values") -> np.ndarray:
@@ -39,14 +44,22 @@ def parse_values(items: str | Sequence[str], name: str = "--values") -> np.ndarr
                     args = [float(ast.literal_eval(a.strip())) for a in match.group(2).split(",")]
                     if len(args) != 3 or args[2] < 1 or args[2] != int(args[2]):
                         raise ValueError
-                    space = np.linspace if match.group(1) == "linspace" else np.logspace
-                    values.extend(space(args[0], args[1], int(args[2])).tolist())
                 else:
                     values.append(float(part))
-            except (ValueError, SyntaxError):
+            except (ValueError, SyntaxError, TypeError, OverflowError):
                 raise CaseError(
                     f"{name}: {part!r} is not a number, linspace(a, b, n) or logspace(a, b, n)"
                 ) from None
+            if match:
+                count = int(args[2])
+                require_memory(
+                    name,
+                    count * _BYTES_PER_VALUE,
+                    f"{part.strip()} is {count:g} values x {_BYTES_PER_VALUE} bytes",
+                    "ask for fewer values",
+                )
+                space = np.linspace if match.group(1) == "linspace" else np.logspace
+                values.extend(space(args[0], args[1], count).tolist())
     if not values:
         raise CaseError(f"{name} needs at least one value")
     array = np.asarray(values, dtype=float)

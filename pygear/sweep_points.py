@@ -13,7 +13,9 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 import os
+import sys
 import time
 import traceback
 from collections.abc import Callable, Mapping, Sequence
@@ -31,6 +33,7 @@ from .cluster import task_files
 from .components import CaseError
 from .io import atomic_path, source_identity, write_netcdf
 from .modal import modal_analysis
+from .resources import require_memory
 from .sensitivity import frequency_sensitivity, parse_values
 
 __all__ = [
@@ -184,6 +187,7 @@ def validate_sweep(
                 raise CaseError(
                     f"--param {p.path}: a value is given twice in a grid ({list(p.values)})"
                 )
+    _check_point_memory(parsed, zip_params)
     chosen = case.scene(scene) if scene is not None else _default_scene(case)
     unsupported = [a for a in chosen.analyses if a not in POINT_ANALYSES]
     if unsupported:
@@ -196,6 +200,20 @@ def validate_sweep(
     resolved = formulation or chosen.formulation or case.formulation
     assemble(case.for_scene(chosen), chosen, formulation=resolved)  # e.g. lin-parker, 2 stages
     return chosen, resolved, parsed
+
+
+def _check_point_memory(parsed: Sequence[SweepParameter], zip_params: bool) -> None:
+    """Refuse a grid whose points alone outgrow the memory: every point is held as its
+    assignment dict (measured on the first one) before any runs, a lower bound."""
+    count = len(parsed[0].values) if zip_params else math.prod(len(p.values) for p in parsed)
+    first = {p.path: p.values[0] for p in parsed}
+    size = sys.getsizeof(first) + sum(sys.getsizeof(v) for v in first.values())
+    require_memory(
+        "--param",
+        count * size,
+        f"{count:g} points x {size} bytes for each point's values, at least",
+        "sweep fewer values",
+    )
 
 
 def _default_scene(case: Case) -> Scene:
