@@ -7,15 +7,24 @@ analyses to run and the effects they call for; nothing outside that list is buil
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import importlib.util
 import os
+import signal
+import threading
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .components import CaseError, ToothDefect, is_finite_number, require_non_negative
+from .components import (
+    CaseError,
+    ToothDefect,
+    is_finite_number,
+    plain_numbers,
+    require_non_negative,
+)
 from .gearbox import Gearbox
 from .transient_settings import Transient
 
@@ -48,6 +57,10 @@ ANALYSES = ("modal", "sensitivity", "transient", "signal")
 
 SIGNAL_AFTER = 1.0
 """Start-up the 'signal' analysis of a run skips [s] (the paper analyses t > 1 s)."""
+
+SIGNAL_BAND = (5000.0, 10000.0)
+"""Resonance band the 'signal' analysis demodulates [Hz] (the paper's DRA band): it must
+lie below the Nyquist frequency, half the run's sample rate."""
 
 EFFECTS = (
     "speed_dependent_planet_terms",
@@ -139,7 +152,8 @@ class Scene:
             )
         if "signal" in self.analyses and "transient" not in self.analyses:
             raise CaseError(f"{path}.analyses: 'signal' analyses a run, so it needs 'transient'")
-        if "signal" in self.analyses and self.transient is not None:
+        if "signal" in self.analyses and isinstance(self.transient, Transient):
+            check_signal_sample_rate(f"{path}.transient", self.transient)
             if self.transient.duration <= SIGNAL_AFTER + 0.1:
                 raise CaseError(
                     f"{path}.transient.duration must exceed {SIGNAL_AFTER + 0.1:g} s for the "
@@ -187,6 +201,7 @@ class Case:
         object.__setattr__(self, "scenes", tuple(self.scenes))
         if isinstance(self.defects, list):
             object.__setattr__(self, "defects", tuple(self.defects))
+        plain_numbers(self)  # np.float32(0.4) is stored, hashed and computed as 0.4
         self.validate()
 
     def validate(self) -> None:
@@ -238,6 +253,21 @@ class Case:
     def input_hash(self) -> str:
         """A short hash of every input value (stable across runs)."""
         return hashlib.sha256(repr(self).encode()).hexdigest()[:16]
+
+
+def check_signal_sample_rate(path: str, transient: Transient) -> None:
+    """Raise :class:`CaseError` unless the run's samples resolve :data:`SIGNAL_BAND`."""
+    time_step = transient.time_step
+    if not (is_finite_number(time_step) and time_step > 0):
+        return  # Transient.validate names it
+    rate = transient.sample_rate if transient.sample_rate is not None else 1.0 / time_step
+    if is_finite_number(rate) and rate > 0 and not SIGNAL_BAND[1] < rate / 2:
+        name = "sample_rate" if transient.sample_rate is not None else "time_step"
+        raise CaseError(
+            f"{path}.{name}: the 'signal' analysis demodulates the {SIGNAL_BAND[0]:g}-"
+            f"{SIGNAL_BAND[1]:g} Hz band, which must lie below the Nyquist frequency "
+            f"(half the sample rate: {rate / 2:g} Hz); sample above {2 * SIGNAL_BAND[1]:g} Hz"
+        )
 
 
 def require_file_name(path: str, name: object) -> None:
@@ -415,14 +445,64 @@ def find_case_dir(reference: str | os.PathLike) -> Path:
 
 
 def load_case_module(reference: str | os.PathLike, prefix: str = "pygear_case"):
-    """Execute ``<case dir>/case.py`` and return (its directory, the module)."""
+    """Execute ``<case dir>/case.py`` and return (its directory, the module).
+
+    Raises
+    ------
+    CaseError
+        When the file ends the program instead of defining a case: ``sys.exit()``,
+        ``raise SystemExit`` or a KeyboardInterrupt it raises itself (a Ctrl-C while it
+        runs still interrupts).  Left alone, such an exit would make the command end
+        "successfully" without doing anything, and a batch skip every other case.
+    """
     directory = find_case_dir(reference)
-    spec = importlib.util.spec_from_file_location(
-        f"{prefix}_{directory.name}", directory / "case.py"
-    )
+    path = directory / "case.py"
+    spec = importlib.util.spec_from_file_location(f"{prefix}_{directory.name}", path)
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    with _signalled_interrupts() as signalled:
+        try:
+            spec.loader.exec_module(module)
+        except (SystemExit, GeneratorExit, KeyboardInterrupt) as exit_:
+            if isinstance(exit_, KeyboardInterrupt) and signalled():
+                raise
+            what = type(exit_).__name__
+            if isinstance(exit_, SystemExit):
+                what = f"SystemExit (exit code {exit_.code!r})"
+            raise CaseError(
+                f"{path}: the case file raised {what} instead of defining "
+                "`case = Case(...)`; a case file must not end the program"
+            ) from None
     return directory, module
+
+
+@contextlib.contextmanager
+def _signalled_interrupts():
+    """Yield a function telling whether a real SIGINT arrived (main thread only; in
+    other threads no signal can arrive, so any KeyboardInterrupt is the file's own)."""
+    arrived = []
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+    previous = signal.getsignal(signal.SIGINT)
+
+    def handler(signum, frame):
+        arrived.append(signum)
+        if previous is signal.SIG_IGN:
+            return
+        if callable(previous):
+            previous(signum, frame)  # Python's own raises KeyboardInterrupt
+            return
+        raise KeyboardInterrupt
+
+    try:
+        signal.signal(signal.SIGINT, handler)
+    except (ValueError, OSError):  # no signal handling here: treat as the file's own
+        yield lambda: False
+        return
+    try:
+        yield lambda: bool(arrived)
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def load_case(reference: str | os.PathLike) -> Case:

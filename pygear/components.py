@@ -13,6 +13,8 @@ import math
 import numbers
 from dataclasses import dataclass, field, fields, is_dataclass
 
+import numpy as np
+
 __all__ = [
     "Bearing",
     "Body",
@@ -32,8 +34,48 @@ class CaseError(ValueError):
 
 
 def is_finite_number(value: object) -> bool:
-    """True for a finite int or float (not a bool, a string or None)."""
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    """True for a finite real number: an int or float, or a NumPy scalar such as
+    ``np.float32`` or ``np.int64`` (not a bool, a string or None)."""
+    return (
+        isinstance(value, numbers.Real)
+        and not isinstance(value, (bool, np.bool_))
+        and math.isfinite(value)
+    )
+
+
+def is_whole_number(value: object) -> bool:
+    """True for an int or a NumPy integer scalar (not a bool)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+
+
+def plain_numbers(value: object) -> object:
+    """``value`` with every NumPy scalar replaced by the Python int, float or bool it holds.
+
+    Dataclasses (frozen or not) are updated in place, field by field; tuples, lists and
+    dicts are rebuilt only where an item changed.  A case so holds the same numbers,
+    the same ``repr`` (input hash) and the same double-precision arithmetic whether a
+    value was written as ``0.4`` or as ``np.float32(0.4)``.
+    """
+    if isinstance(value, (np.number, np.bool_)):
+        return value.item()
+    if is_dataclass(value) and not isinstance(value, type):
+        for spec in fields(value):
+            current = getattr(value, spec.name, None)
+            converted = plain_numbers(current)
+            if converted is not current:
+                object.__setattr__(value, spec.name, converted)
+        return value
+    if isinstance(value, (tuple, list)):
+        items = [plain_numbers(v) for v in value]
+        if all(a is b for a, b in zip(items, value)):
+            return value
+        return type(value)(items) if type(value) in (tuple, list) else value
+    if isinstance(value, dict):
+        pairs = [(plain_numbers(k), plain_numbers(v)) for k, v in value.items()]
+        if all(a is k and b is v for (a, b), (k, v) in zip(pairs, value.items())):
+            return value
+        return dict(pairs)
+    return value
 
 
 _finite = is_finite_number
@@ -109,26 +151,101 @@ class Body:
             require_positive(f"{path}.{name}", getattr(self, name))
 
 
+MODULE_PRESSURE_ANGLE_DEG = 45.0
+"""The pressure angle a gear's module implies, acos(2 r_b / (m Z)), must lie below this
+(the range :class:`Mesh` accepts for ``pressure_angle_deg``)."""
+
+
 @dataclass(frozen=True)
 class Gear(Body):
-    """A gear: a body with a base radius and (optionally) a tooth number.
+    """A gear: a body with a base radius and (optionally) a tooth number and a module.
 
     Parameters
     ----------
     base_radius : float
         Base-circle radius r_b [m].
     teeth : int or None
-        Number of teeth Z; needed for phasing and the tooth-contact table.
+        Number of teeth Z; needed for phasing and the tooth-contact table.  The tooth
+        numbers of meshing gears must fit their base radii (:data:`TOOTH_RATIO_TOLERANCE`).
+    module : float or None
+        Transverse module m_t [m] (the normal module over cos(beta) for a helical
+        gear), optional and used only as a check: r_b = m_t Z cos(alpha_t) / 2, so
+        2 r_b / (m_t Z) must be the cosine of a pressure angle in (0, 45) degrees.
     """
 
     base_radius: float = float("nan")
     teeth: int | None = None
+    module: float | None = None
 
     def validate(self, path: str) -> None:
         super().validate(path)
         require_positive(f"{path}.base_radius", self.base_radius)
-        if self.teeth is not None and (not isinstance(self.teeth, int) or self.teeth < 3):
+        if self.teeth is not None and (not is_whole_number(self.teeth) or self.teeth < 3):
             raise CaseError(f"{path}.teeth must be a whole number >= 3 (got {self.teeth!r})")
+        if self.module is None:
+            return
+        require_positive(f"{path}.module", self.module)
+        if self.teeth is None:
+            raise CaseError(
+                f"{path}.module needs its teeth: r_b = m Z cos(alpha) / 2 checks the module "
+                f"against {path}.teeth, which is not given"
+            )
+        cosine = 2 * self.base_radius / (self.module * self.teeth)
+        if not math.cos(math.radians(MODULE_PRESSURE_ANGLE_DEG)) < cosine < 1:
+            implied = f"{math.degrees(math.acos(cosine)):.3g} deg" if cosine < 1 else "none"
+            raise CaseError(
+                f"{path}.module: m = {self.module * 1e3:.4g} mm and Z = {self.teeth} do not fit "
+                f"base_radius = {self.base_radius * 1e3:.4g} mm: r_b = m Z cos(alpha) / 2 needs "
+                f"a pressure angle alpha in (0, {MODULE_PRESSURE_ANGLE_DEG:g}) deg "
+                f"(implied pressure angle: {implied})"
+            )
+
+
+TOOTH_RATIO_TOLERANCE = 0.03
+"""How far the tooth-number ratio of two meshing gears may stray from their base-radius
+ratio [-].  Meshing gears share one base pitch 2 pi r_b / Z (r_b = m Z cos(alpha) / 2 with
+the same m and alpha), so Z_2 / Z_1 = r_b2 / r_b1 exactly.  A case still differs from
+that by the rounding of published radii (three significant digits are off by up to
+0.5 % each, so a ratio by up to 1 %: Table 1's 38.7, 50.2 and 137.5 mm with 27, 35 and
+96 teeth agree to 0.14 %) and by a tooth number moved by one for assembly (one tooth
+in 50 or more: 2 %; the gearbox case's 97-tooth ring on Table 1's 96-tooth radius is
+1.1 % off).  3 % allows both; a wrong digit (960 teeth for 96) or another gear's tooth
+number is far beyond."""
+
+
+def require_matching_teeth(path: str, gears: dict[str, Gear]) -> None:
+    """Raise :class:`CaseError` unless the tooth numbers of gears that share one base
+    pitch fit their base radii (:data:`TOOTH_RATIO_TOLERANCE`).
+
+    ``gears`` maps member names to gears; gears without a tooth number are skipped.
+    The message names the gear that disagrees with every other (or the pair).
+    """
+    known = {name: gear for name, gear in gears.items() if gear.teeth is not None}
+    names = list(known)
+    failed = []
+    for i, first in enumerate(names):
+        for second in names[i + 1 :]:
+            a, b = known[first], known[second]
+            teeth_ratio = b.teeth / a.teeth
+            radius_ratio = b.base_radius / a.base_radius
+            if abs(teeth_ratio / radius_ratio - 1) > TOOTH_RATIO_TOLERANCE:
+                failed.append((first, second, teeth_ratio, radius_ratio))
+    if not failed:
+        return
+    common = set.intersection(*({f[0], f[1]} for f in failed))
+    first, second, teeth_ratio, radius_ratio = failed[0]
+    culprit = common.pop() if len(common) == 1 else second
+    other = first if culprit == second else second
+    gear, reference = known[culprit], known[other]
+    implied = reference.teeth * gear.base_radius / reference.base_radius
+    raise CaseError(
+        f"{path}.{culprit}.teeth: {gear.teeth} teeth do not fit the base radii: "
+        f"Z_{culprit}/Z_{other} = {gear.teeth}/{reference.teeth} = "
+        f"{gear.teeth / reference.teeth:.4g} but r_b {culprit}/{other} = "
+        f"{gear.base_radius / reference.base_radius:.4g} (about {implied:.1f} teeth); meshing "
+        f"gears share one base pitch 2 pi r_b/Z, so the ratios must agree within "
+        f"{TOOTH_RATIO_TOLERANCE * 100:g} %"
+    )
 
 
 @dataclass(frozen=True)
@@ -399,7 +516,7 @@ class PlanetaryStage:
         path = path or self.name
         if not isinstance(self.name, str) or not self.name.isidentifier():
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
-        if not isinstance(self.planets, int) or isinstance(self.planets, bool) or self.planets < 1:
+        if not is_whole_number(self.planets) or self.planets < 1:
             raise CaseError(f"{path}.planets must be a whole number >= 1 (got {self.planets!r})")
         for name in (
             "carrier",
@@ -497,6 +614,7 @@ class PlanetaryStage:
             )
 
     def _validate_teeth(self, path: str) -> None:
+        require_matching_teeth(path, {"sun": self.sun, "planet": self.planet, "ring": self.ring})
         teeth = (self.sun.teeth, self.ring.teeth)
         if None in teeth or not self.equally_spaced:
             return

@@ -19,7 +19,9 @@ from .components import (
     Gear,
     Mesh,
     PlanetaryStage,
+    is_whole_number,
     require_axial_position,
+    require_matching_teeth,
     require_non_negative,
 )
 from .components import is_finite_number as _finite
@@ -118,6 +120,9 @@ class ParallelStage:
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
         for name in ("input_gear", "output_gear", "input_bearing", "output_bearing", "mesh"):
             getattr(self, name).validate(f"{path}.{name}")
+        require_matching_teeth(
+            path, {"input_gear": self.input_gear, "output_gear": self.output_gear}
+        )
         require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
         for name in ("base_helix_angle_deg", "centre_angle_deg"):
             if not _finite(getattr(self, name)):
@@ -304,7 +309,7 @@ class Gearbox:
             if not isinstance(stage, (PlanetaryStage, ParallelStage, ShaftInertia)):
                 raise CaseError(f"{path}.stages: {stage!r} is not a stage")
             stage.validate(stage.name)
-        if not isinstance(self.rigid_body_modes, int) or self.rigid_body_modes < 0:
+        if not is_whole_number(self.rigid_body_modes) or self.rigid_body_modes < 0:
             raise CaseError(f"{path}.rigid_body_modes must be a whole number >= 0")
         self.check_label(self.input, f"{path}.input_dof")
         self.check_label(self.output, f"{path}.output_dof")

@@ -17,15 +17,23 @@ itself lives in :mod:`pygear.transient`.  A case file writes, for the seed's run
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
-from .components import CaseError, require_non_negative, require_positive
+from .components import (
+    CaseError,
+    is_finite_number,
+    is_whole_number,
+    require_non_negative,
+    require_positive,
+)
 
 __all__ = [
     "EQUIVALENT_LOAD_MODES",
     "INTEGRATORS",
     "LAW_KINDS",
     "PROBE_QUANTITIES",
+    "RUN_VARIABLES",
     "Probe",
     "TorqueLaw",
     "Transient",
@@ -54,6 +62,41 @@ PROBE_QUANTITIES = {
 }
 """Quantities a probe can keep, and what its target names."""
 
+RUN_VARIABLES = frozenset(
+    {
+        # coordinates and results of the run (pygear.transient), the full state's
+        "time",
+        "member",
+        "planet",
+        "dof",
+        "equilibrium_speed",
+        "planet_tangential_speed",
+        "t_s",
+        "displacement",
+        "velocity",
+        "acceleration",
+        # the frequencies a run file carries for its signal analysis (pygear.outputs)
+        "natural_frequency",
+        "mode",
+        "mode_class",
+        "mesh_frequency",
+        "mesh_stage",
+        "mesh_teeth",
+        # <scene>_<channel> files would replace the scene's own <scene>_<suffix> files
+        "speeds",
+        "sensitivity",
+        "energy",
+        "mode_shape",
+    }
+)
+"""Names a run takes for its own coordinates, variables and files; a probe of the same
+name would be overwritten, clash with them, or overwrite a file."""
+
+PROBE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+"""A probe name: a letter, then letters, digits and underscores.  That is a valid NetCDF
+(and CF) variable name and a safe file-name part; ``__`` names the full state's
+internal channels."""
+
 _TIME_TOLERANCE = 1e-9
 
 
@@ -69,7 +112,9 @@ class TorqueLaw:
         One of :data:`LAW_KINDS`.
     torque : float
         Constant torque, final torque of a ramp, or the rated drive torque T_D of the
-        generator law [N m].
+        generator law [N m].  As a drive, positive turns the input member along +theta
+        of its DOF and negative the other way (see ``Transient.drive``); the generator
+        law takes T_D > 0 and always brakes the output's actual rotation.
     start, ramp_time : float
         Ramp start and length [s].
     times, torques : tuple of float
@@ -198,7 +243,19 @@ class Probe:
         return f"{target}_{self.quantity}" if target else self.quantity
 
     def validate(self, path: str) -> None:
-        """Raise :class:`CaseError` for an unknown quantity or a missing target."""
+        """Raise :class:`CaseError` for an unknown quantity, a missing target, or a name
+        that is not a NetCDF variable name or is taken by the run (:data:`RUN_VARIABLES`)."""
+        if self.name is not None:
+            if not isinstance(self.name, str) or not PROBE_NAME.match(self.name):
+                raise CaseError(
+                    f"{path}.name must be a letter followed by letters, digits or underscores "
+                    f"(a NetCDF variable name; got {self.name!r})"
+                )
+            if self.name in RUN_VARIABLES:
+                raise CaseError(
+                    f"{path}.name {self.name!r} is taken by the run's own output (taken: "
+                    f"{', '.join(sorted(RUN_VARIABLES))}); choose another name"
+                )
         if self.quantity not in PROBE_QUANTITIES:
             raise CaseError(
                 f"{path}.quantity must be one of {', '.join(PROBE_QUANTITIES)} "
@@ -247,18 +304,25 @@ class Transient:
         DOF labels of the driven and the loaded member (default: the first stage's
         carrier and sun theta_z).
     drive : TorqueLaw, optional
-        Torque on the input member (positive along +theta).
+        Torque on the input member [N m].  Sign convention: a positive torque acts
+        along +theta of the input DOF (``planetary.carrier.theta_z``: counter-clockwise
+        seen from +z, right-hand rule) and a negative torque the other way.  The drive's
+        sense (the sign of its torque; of the sum of a table's torques) sets the running
+        direction: the contact signs, the tooth-contact table and t_s follow it, so a
+        negative drive runs the mirror image of the positive one.
     load : TorqueLaw, optional
-        Torque against the output member's rotation.
+        Torque against the output member's actual rotation (the generator law has the
+        sign of the output speed and brakes it in either sense).
     speed_reference_rpm : float, optional
-        omega_0: t_s is the first instant the input speed reaches it; the generator
-        law needs it [rpm].
+        omega_0 > 0: t_s is the first instant the input speed reaches it in the drive's
+        sense; the generator law needs it [rpm].
     probes : tuple of Probe
         Output channels; nothing else is stored.
     full_state : bool
         Also keep every DOF's displacement, velocity and acceleration.
     mean_window : float
-        Equilibrium speeds are means over the last ``mean_window`` seconds [s].
+        Equilibrium speeds are means over the last ``mean_window`` seconds [s]; at
+        least one time step and at most the duration.
     deflection_limit : float
         A mesh deflection beyond this stops the run as diverged [m].
     contact_sign : tuple of int, optional
@@ -347,7 +411,7 @@ class Transient:
                 f"(got {self.equivalent_load!r})"
             )
         require_positive(f"{path}.tolerance", self.tolerance)
-        if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):
+        if not (is_whole_number(self.max_iterations) and self.max_iterations >= 1):
             raise CaseError(f"{path}.max_iterations must be a whole number >= 1")
         require_non_negative(f"{path}.refactor_threshold", self.refactor_threshold)
         if not isinstance(self.restart_at_jumps, bool):
@@ -359,6 +423,16 @@ class Transient:
                 f"{self.integrator} does not enforce (got integrator {self.integrator!r})"
             )
         require_positive(f"{path}.mean_window", self.mean_window)
+        if self.mean_window < self.time_step * (1 - _TIME_TOLERANCE):
+            raise CaseError(
+                f"{path}.mean_window {self.mean_window!r} s must be at least one time_step "
+                f"({self.time_step!r} s): the equilibrium speeds average over it"
+            )
+        if self.mean_window > self.duration * (1 + _TIME_TOLERANCE):
+            raise CaseError(
+                f"{path}.mean_window {self.mean_window!r} s must be at most the duration "
+                f"({self.duration!r} s): the equilibrium speeds average over the run's end"
+            )
         require_positive(f"{path}.deflection_limit", self.deflection_limit)
         for name in ("drive", "load"):
             law = getattr(self, name)
@@ -393,5 +467,4 @@ class Transient:
         )
 
 
-def _is_finite(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+_is_finite = is_finite_number

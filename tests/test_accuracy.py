@@ -192,7 +192,11 @@ def test_a_diverging_rung_is_recorded_not_raised(study_case):
     scene = dataclasses.replace(
         study_case.scene("runup"),
         transient=dataclasses.replace(
-            study_case.scene("runup").transient, duration=0.05, time_step=1e-4, sample_rate=1e4
+            study_case.scene("runup").transient,
+            duration=0.05,
+            mean_window=0.05,
+            time_step=1e-4,
+            sample_rate=1e4,
         ),
     )
     result = run_setting(study_case, scene, "improved", 1, 1.0)

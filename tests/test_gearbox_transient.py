@@ -33,6 +33,7 @@ def gearbox_case():
 def _short(case, name: str, duration: float, **changes):
     """The case's run-up scene ``name`` shortened to ``duration`` seconds."""
     scene = case.scene(name)
+    changes.setdefault("mean_window", min(scene.transient.mean_window, duration))
     settings = dataclasses.replace(scene.transient, duration=duration, **changes)
     return dataclasses.replace(scene, transient=settings, analyses=("transient",))
 

@@ -732,14 +732,16 @@ def test_restart_is_refused_where_it_does_not_apply(study_case):
 
     scene = study_case.scene("runup")
     hht = dataclasses.replace(
-        scene.transient, integrator="hht", restart_at_jumps=True, duration=0.01
+        scene.transient, integrator="hht", restart_at_jumps=True, duration=0.01, mean_window=0.01
     )
     with pytest.raises(CaseError, match=r"restart_at_jumps needs integrator 'newmark'"):
         hht.validate("scenes.runup.transient")
     separating = dataclasses.replace(
         scene,
         effects=("time_varying_mesh_stiffness", "tooth_separation"),
-        transient=dataclasses.replace(scene.transient, restart_at_jumps=True, duration=0.01),
+        transient=dataclasses.replace(
+            scene.transient, restart_at_jumps=True, duration=0.01, mean_window=0.01
+        ),
     )
     with pytest.raises(CaseError, match="does not combine with the tooth_separation effect"):
         transient_problem(study_case, separating)

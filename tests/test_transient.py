@@ -285,7 +285,7 @@ def _short_scene(case, time_step: float, mode: str, duration: float = 0.3, **ext
         time_step=time_step,
         sample_rate=None,
         equivalent_load=mode,
-        mean_window=0.05,
+        mean_window=min(0.05, duration),
         **extra,
     )
     return dataclasses.replace(
