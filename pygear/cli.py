@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
@@ -18,6 +17,7 @@ from .batch import add_parsers as add_batch_parsers
 from .case import DOF_SETS, FORMULATIONS, Case, Scene, load_case
 from .components import CaseError
 from .io import write_netcdf
+from .json_output import json_text
 from .kernel import KernelError
 from .modal import modal_analysis
 from .outputs import (
@@ -28,6 +28,7 @@ from .outputs import (
 from .progress import ProgressBar
 from .signal import SignalError
 from .transient import runup_table_text, transient_summary
+from .transient_checks import check_scenes
 
 __all__ = ["main"]
 
@@ -215,7 +216,7 @@ def _modal(args: argparse.Namespace) -> int:
             for c in comparison.mode_class.values
         }
     if args.json:
-        print(json.dumps(summary))
+        print(json_text(summary))
         return 0
     _print_modal_table(modal)
     print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
@@ -279,7 +280,7 @@ def _sensitivity(args: argparse.Namespace) -> int:
     plot_frequency_sweep(sweep, figure)
     if args.json:
         print(
-            json.dumps(
+            json_text(
                 {
                     "parameter": args.parameter,
                     "values": values.tolist(),
@@ -326,7 +327,7 @@ def _analyze(args: argparse.Namespace) -> int:
         mesh_frequency=args.mesh_frequency or stored_mesh_frequency,
     )
     if args.json:
-        print(json.dumps({**analysis.summary(), "files": [str(f) for f in files]}))
+        print(json_text({**analysis.summary(), "files": [str(f) for f in files]}))
         return 0
     for name, table in analysis.peaks.items():
         print(peak_table_text(table, title=f"{name} of {analysis.channel}"))
@@ -357,6 +358,7 @@ def _run(args: argparse.Namespace) -> int:
     case = base_case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
+    check_scenes(base_case, scenes, formulation=args.formulation, out=out)  # before any runs
     summary: dict = {"case": case.name, "scenes": {}}
     transients: dict = {}
     run_started = time.perf_counter()
@@ -406,7 +408,7 @@ def _run(args: argparse.Namespace) -> int:
         summary["files"] = [str(_compare_transients(transients, out))]
     summary["wall_s"] = time.perf_counter() - run_started
     if args.json:
-        print(json.dumps(summary))
+        print(json_text(summary))
     elif transients:
         print(runup_table_text(transients))
     return 0

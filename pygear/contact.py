@@ -29,6 +29,7 @@ from .gearbox import ParallelStage
 from .kernel import KernelError
 from .mesh_phasing import stage_phasing
 from .probes import dof_row, rigid_rotation
+from .resources import FLOAT_BYTES, require_memory
 
 __all__ = [
     "LAW_CODES",
@@ -483,7 +484,15 @@ def mesh_stiffness_at_constant_speed(
     if not (math.isfinite(duration) and duration > 0):
         raise CaseError(f"--duration must be a positive number of seconds (got {duration!r})")
     step = 1.0 / (frequency.max() * samples_per_cycle)
-    time = np.arange(int(math.floor(duration / step + 1e-9)) + 1) * step
+    samples = int(math.floor(duration / step + 1e-9)) + 1
+    per_sample = 1 + len(speeds) * (4 + 3 * table.max_pairs)  # time, theta + 3 per mesh, 3 per pair
+    require_memory(
+        "--duration",
+        samples * per_sample * FLOAT_BYTES,
+        f"{samples} samples x {per_sample} values x {FLOAT_BYTES} bytes",
+        "shorten --duration",
+    )
+    time = np.arange(samples) * step
     theta = np.outer(time, speeds)
     result = table.series(theta)
     pairs = np.arange(table.max_pairs)

@@ -35,6 +35,7 @@ from .newmark import (
     TransientInterrupted,
 )
 from .probes import RPM_PER_RAD_S, compile_probes, dof_row, rigid_rotation, state_probes
+from .transient_checks import check_static_deflection, check_transient_memory
 from .transient_settings import TorqueLaw, Transient
 
 __all__ = [
@@ -64,6 +65,8 @@ class TransientProblem:
     ratio: float
     contact_sign: np.ndarray
     effects: tuple[str, ...]
+    drive_sign: int = 1  # -1: input member and drive law mirrored in the kernel
+    static_deflection: np.ndarray | None = None  # per mesh, under the peak drive [m]
 
 
 def _default_member(case: Case, member: str) -> str:
@@ -106,15 +109,18 @@ def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: s
     return float(speed_out / speed_in)
 
 
-def _law_arrays(law: TorqueLaw | None, ratio: float, speed_reference: float) -> LawArrays:
+def _law_arrays(
+    law: TorqueLaw | None, ratio: float, speed_reference: float, sign: int = 1
+) -> LawArrays:
+    """The kernel's form of a law; ``sign`` = -1 mirrors a drive law's torque."""
     if law is None:
         return LawArrays()
     if law.kind == "constant":
-        return LawArrays("constant", (law.torque, 0.0, 0.0, 0.0))
+        return LawArrays("constant", (sign * law.torque, 0.0, 0.0, 0.0))
     if law.kind == "ramp":
-        return LawArrays("ramp", (law.torque, law.start, law.ramp_time, 0.0))
+        return LawArrays("ramp", (sign * law.torque, law.start, law.ramp_time, 0.0))
     if law.kind == "table":
-        return LawArrays("table", times=law.times, torques=law.torques)
+        return LawArrays("table", times=law.times, torques=tuple(sign * t for t in law.torques))
     i = law.ratio or ratio
     return LawArrays("speed_power", (law.torque / i, i * speed_reference, law.exponent, 0.0))
 
@@ -189,6 +195,12 @@ def transient_problem(
     else:
         deflection = static_mesh_deflections(model, input_row, output_row, float(direction))
         contact_sign = np.where(deflection < 0, -1, 1).astype(np.int32)
+    # the output is held by its load at equilibrium; without a load the drive only
+    # accelerates the gearbox (inertia relief)
+    held = output_row if settings.load is not None else None
+    static = check_static_deflection(
+        model, settings, static_mesh_deflections(model, input_row, held), path
+    )
     meshes = None
     if n_mesh:  # without either effect the kernel only reads them for mesh probes
         table = None
@@ -218,6 +230,7 @@ def transient_problem(
     probes = compile_probes(model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
+    check_transient_memory(settings, len(probes), path)
     solver = BandedNewmark(
         model.mass,
         model.damping,
@@ -231,9 +244,11 @@ def transient_problem(
         max_iterations=settings.max_iterations,
         refactor_threshold=settings.refactor_threshold,
         restart_at_jumps=settings.restart_at_jumps,
-        drive=_law_arrays(settings.drive, ratio, omega_0),
+        # the kernel measures the input speed (t_s) along the drive's sense: a negative
+        # drive runs with the input member and the drive law mirrored (same force)
+        drive=_law_arrays(settings.drive, ratio, omega_0, sign=direction),
         load=_law_arrays(load, ratio, omega_0),
-        input_weights=input_row,
+        input_weights=direction * input_row,
         output_weights=output_row,
         speed_reference=omega_0,
         deflection_limit=settings.deflection_limit,
@@ -251,6 +266,8 @@ def transient_problem(
         ratio,
         contact_sign,
         effects,
+        drive_sign=direction,
+        static_deflection=static,
     )
 
 
@@ -351,6 +368,8 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         if probe.name.startswith("__"):
             state.setdefault(probe.kind, []).append(values)
         else:
+            if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
+                values = problem.drive_sign * values
             data_vars[probe.name] = (("time",), values, probe.attrs)
     units = {
         "displacement": "m or rad",
