@@ -32,10 +32,16 @@ from .newmark import (
     LawArrays,
     MeshTerms,
     RunResult,
+    TransientError,
     TransientInterrupted,
 )
 from .probes import RPM_PER_RAD_S, compile_probes, dof_row, rigid_rotation, state_probes
-from .transient_checks import check_static_deflection, check_transient_memory
+from .transient_checks import (
+    check_static_deflection,
+    check_transient_disk,
+    check_transient_memory,
+    with_soft_mesh_cause,
+)
 from .transient_settings import TorqueLaw, Transient
 
 __all__ = [
@@ -319,17 +325,23 @@ def run_transient(
     problem = problem or transient_problem(case, scene, formulation=formulation)
     settings = problem.settings
     keyed = checkpoint is not None or resume is not None
-    result = problem.solver.run(
-        settings.steps,
-        problem.probes,
-        decimation=settings.decimation,
-        window_steps=int(round(settings.mean_window / settings.time_step)),
-        progress=progress,
-        checkpoint=checkpoint,
-        checkpoint_every=checkpoint_every,
-        resume=resume,
-        identity=checkpoint_identity(problem) if keyed else "",
-    )
+    try:
+        result = problem.solver.run(
+            settings.steps,
+            problem.probes,
+            decimation=settings.decimation,
+            window_steps=int(round(settings.mean_window / settings.time_step)),
+            progress=progress,
+            checkpoint=checkpoint,
+            checkpoint_every=checkpoint_every,
+            resume=resume,
+            identity=checkpoint_identity(problem) if keyed else "",
+        )
+    except TransientError as error:
+        static = problem.static_deflection
+        if static is None:
+            raise
+        raise with_soft_mesh_cause(error, problem.model, static, settings) from None
     dataset = _dataset(problem, result)
     dataset.attrs["wall_s"] = time.perf_counter() - started
     return dataset
@@ -497,6 +509,9 @@ def write_transient(
     with signals_interrupt():  # a signal while writing raises, so temporaries are removed
         try:
             problem = transient_problem(case, scene, formulation=formulation, model=model)
+            check_transient_disk(
+                problem.settings, len(problem.probes), directory, f"scenes.{scene.name}.transient"
+            )
             dataset = run_transient(
                 case,
                 scene,
