@@ -22,7 +22,7 @@
 !> Faults (one tooth of one gear): a root crack clips the section on the cracked side at
 !> the crack tip's distance from the centre line (Tian 2004); a spall removes material of
 !> a given depth over its profile band and cuts the contact width while the contact lies
-!> in it (Chaari et al. 2008; Saxena et al. 2015); a chipped tooth has lost the part above
+!> in it (Chaari et al. 2008; Saxena et al. 2016); a chipped tooth has lost the part above
 !> a radius, where it makes no contact.  A fault may cover part of the face width: the
 !> damaged and the intact widths then act in parallel (face-width slicing, Chen & Shao 2011).
 module tooth_potential_energy

@@ -105,7 +105,7 @@ class RootCrack:
 
 @dataclass(frozen=True)
 class Spall:
-    """A spall (or pit) on the loaded flank (Chaari et al. 2008; Saxena et al. 2015).
+    """A spall (or pit) on the loaded flank (Chaari et al. 2008; Saxena et al. 2016).
 
     Parameters
     ----------
