@@ -47,9 +47,30 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the package and the kernel's BLAS (library, version, CPU core)."""
+
+    def __init__(self, option_strings: list[str], dest: str, **kwargs: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:  # noqa: ANN001
+        from . import __version__
+        from ._blas import kernel_blas
+
+        blas = kernel_blas()
+        print(f"pygear {__version__}")
+        print(f"kernel BLAS: OpenBLAS {blas['version']}, core {blas['core']} ({blas['library']})")
+        parser.exit(0)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
     parser = argparse.ArgumentParser(prog="pygear", description=__doc__)
+    parser.add_argument(
+        "--version",
+        action=_VersionAction,
+        help="print the package version and the BLAS the kernel runs, then exit",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="run a case's scenes and write results and figures")

@@ -126,3 +126,14 @@ def test_console_script_runs():
         check=True,
     )
     assert json.loads(result.stdout)["mode_class"][0] == "rotational"
+
+
+def test_version_names_the_kernel_blas(capsys):
+    """``pygear --version`` says which OpenBLAS the kernel links and which CPU kernels
+    it chose (a generic fallback would show as Prescott/Katmai)."""
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    out = capsys.readouterr().out
+    assert out.startswith("pygear ")
+    assert "kernel BLAS: OpenBLAS" in out and "core" in out and "unknown" not in out
