@@ -20,6 +20,8 @@ import math
 import re
 from dataclasses import dataclass
 
+import numpy as np
+
 from .components import (
     CaseError,
     is_finite_number,
@@ -414,7 +416,7 @@ class Transient:
         if not (is_whole_number(self.max_iterations) and self.max_iterations >= 1):
             raise CaseError(f"{path}.max_iterations must be a whole number >= 1")
         require_non_negative(f"{path}.refactor_threshold", self.refactor_threshold)
-        if not isinstance(self.restart_at_jumps, bool):
+        if not isinstance(self.restart_at_jumps, (bool, np.bool_)):
             raise CaseError(f"{path}.restart_at_jumps must be True or False")
         if self.restart_at_jumps and self.integrator != "newmark":
             raise CaseError(

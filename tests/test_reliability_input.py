@@ -417,8 +417,10 @@ def test_numpy_scalars_are_accepted_where_numbers_are(study_case):
         study_case.scene("runup").transient,
         duration=np.float32(1.5),
         max_iterations=np.int64(20),
+        restart_at_jumps=np.bool_(False),
         mean_window=np.float64(0.25),
     )
     scene = dataclasses.replace(study_case.scene("runup"), transient=settings)
     loaded = dataclasses.replace(study_case, scenes=(scene,))
     assert type(loaded.scenes[0].transient.max_iterations) is int
+    settings.validate("scenes.runup.transient")  # also before a case stores plain numbers
