@@ -40,6 +40,7 @@ from .transient_checks import (
     check_static_deflection,
     check_transient_disk,
     check_transient_memory,
+    peak_torque,
     with_soft_mesh_cause,
 )
 from .transient_settings import TorqueLaw, Transient
@@ -201,9 +202,9 @@ def transient_problem(
     else:
         deflection = static_mesh_deflections(model, input_row, output_row, float(direction))
         contact_sign = np.where(deflection < 0, -1, 1).astype(np.int32)
-    # the output is held by its load at equilibrium; without a load the drive only
-    # accelerates the gearbox (inertia relief)
-    held = output_row if settings.load is not None else None
+    # a load holds the output at equilibrium (the mesh carries the whole drive torque);
+    # without one the drive only accelerates the gearbox (inertia relief)
+    held = output_row if peak_torque(settings.load) > 0 else None
     static = check_static_deflection(
         model, settings, static_mesh_deflections(model, input_row, held), path
     )

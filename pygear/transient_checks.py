@@ -30,7 +30,7 @@ __all__ = [
     "check_transient_disk",
     "check_transient_memory",
     "mesh_stiffness_parameter",
-    "peak_drive_torque",
+    "peak_torque",
     "transient_footprint",
     "with_soft_mesh_cause",
 ]
@@ -42,8 +42,9 @@ of the limit: a suddenly applied load overshoots its static deflection by up to 
 factor of two (an undamped step response), which then reaches the limit."""
 
 
-def peak_drive_torque(law: TorqueLaw | None) -> float:
-    """The largest magnitude of torque a drive law applies [N m] (0 without a drive)."""
+def peak_torque(law: TorqueLaw | None) -> float:
+    """The largest magnitude of torque a law applies [N m] (0 without a law; the rated
+    drive torque T_D of the generator law, which its load reaches at equilibrium)."""
     if law is None:
         return 0.0
     if law.kind == "table":
@@ -85,14 +86,14 @@ def check_static_deflection(
         The static deflection of a mesh exceeds ``deflection_limit``.
     """
     deflections = np.abs(np.asarray(deflection_per_torque, dtype=float))
-    deflections *= peak_drive_torque(settings.drive)
+    deflections *= peak_torque(settings.drive)
     if not deflections.size or not deflections.max() > settings.deflection_limit:
         return deflections
     worst = int(np.argmax(deflections))
     mesh = model.meshes[worst]
     raise CaseError(
         f"{path}.deflection_limit: under the peak drive torque of "
-        f"{peak_drive_torque(settings.drive):g} N m the static deflection of mesh "
+        f"{peak_torque(settings.drive):g} N m the static deflection of mesh "
         f"{mesh.stage}.{mesh.name} is {deflections[worst] * 1e3:.3g} mm, beyond "
         f"deflection_limit = {settings.deflection_limit * 1e3:.3g} mm, so the run would stop as "
         f"diverged: the mesh is too soft for this torque ({mesh_stiffness_parameter(mesh)} = "
