@@ -29,9 +29,9 @@ from pathlib import Path
 def child(kernel_path: str | None, steps: int, repeats: int) -> None:
     """Run inside a child process: load the kernel (optionally another build), time it."""
     if kernel_path:
-        spec = importlib.util.spec_from_file_location("pygear._kernel", kernel_path)
+        spec = importlib.util.spec_from_file_location("pygear.kernel._kernel", kernel_path)
         module = importlib.util.module_from_spec(spec)
-        sys.modules["pygear._kernel"] = module
+        sys.modules["pygear.kernel._kernel"] = module
         spec.loader.exec_module(module)
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from bench_newmark import kernel_run, problem_for

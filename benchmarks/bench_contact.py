@@ -29,11 +29,11 @@ import timeit
 import numpy as np
 from timing import median_seconds
 
-from pygear import _kernel
 from pygear.assembly import assemble
-from pygear.case import load_case
-from pygear.components import ToothDefect
-from pygear.contact import ContactTable, build_contact_table
+from pygear.assembly.contact_table import ContactTable, build_contact_table
+from pygear.kernel.calls import _kernel
+from pygear.model.case import load_case
+from pygear.model.components import ToothDefect
 
 
 def study_tables() -> dict[str, ContactTable]:

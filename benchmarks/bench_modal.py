@@ -15,8 +15,8 @@ import scipy.linalg
 from timing import median_seconds
 
 from pygear import load_case
+from pygear.analysis.modal import modal_analysis
 from pygear.assembly import assemble
-from pygear.modal import modal_analysis
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 

@@ -31,8 +31,8 @@ import tracemalloc
 import numpy as np
 
 from pygear import Probe, load_case
-from pygear.contact import LAW_CODES
-from pygear.transient import _kinematic_ratio, transient_problem
+from pygear.analysis.transient import _kinematic_ratio, transient_problem
+from pygear.assembly.contact_table import LAW_CODES
 
 CASES = {  # case, scene, channels compared with the NumPy loop
     "study": ("yang2016_planetary", "runup", ("planetary.carrier", "sun-planet1")),
@@ -180,8 +180,8 @@ def main() -> None:
     print(f"plain NumPy loop, same algorithm  : {plain:8.3f} us per step")
     print(f"ratio NumPy / kernel              : {plain / kernel:8.1f} x")
 
-    # rigid-body rebasing (pygear.newmark_rebase) against a run that never rebases
-    import pygear.newmark_rebase as rebase
+    # rigid-body rebasing (pygear.kernel.newmark_rebase) against a run that never rebases
+    import pygear.kernel.newmark_rebase as rebase
 
     default_steps = rebase.REBASE_STEPS
     rebase.REBASE_STEPS = 1 << 62

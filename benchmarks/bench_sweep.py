@@ -6,7 +6,7 @@ started and pygear imported before timing), as ``run_sweep`` starts its own, at 
 sizes, so that the fixed cost of a sweep (connecting, planning, combining, writing
 ``sweep_<hash>.nc``) and the cost per point separate; medians of repeats.
 The point's own run is measured in this process: its analyses alone, and with its
-NetCDF file written (``pygear.sweep_points.run_point``).  The machine's load average
+NetCDF file written (``pygear.runs.sweep_points.run_point``).  The machine's load average
 is printed: on a shared 2-core machine other work takes cores from the workers.
 
     python benchmarks/bench_sweep.py                 # modal points of the study case
@@ -26,8 +26,8 @@ from timing import median_seconds
 
 from pygear import load_case
 from pygear.assembly import assemble
-from pygear.sweep import POINT_ANALYSES, run_sweep
-from pygear.sweep_points import (
+from pygear.runs.sweep import POINT_ANALYSES, run_sweep
+from pygear.runs.sweep_points import (
     PointTask,
     apply_assignments,
     point_hash,

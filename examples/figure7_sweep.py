@@ -20,9 +20,9 @@ import xarray as xr
 from distributed import LocalCluster
 
 from pygear import load_case
-from pygear.plots import plot_frequency_sweep
-from pygear.sensitivity import frequency_sweep
-from pygear.sweep import run_sweep
+from pygear.analysis.sensitivity import frequency_sweep
+from pygear.plots.modal import plot_frequency_sweep
+from pygear.runs.sweep import run_sweep
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 PARAMETER = "planetary.sun_mesh.stiffness"

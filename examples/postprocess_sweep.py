@@ -109,7 +109,7 @@ def main() -> None:
     if len(sys.argv) > 1:
         target = Path(sys.argv[1])
     else:
-        from pygear.sweep import run_sweep
+        from pygear.runs.sweep import run_sweep
 
         case = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
         params = [

@@ -7,22 +7,21 @@ assembled from Fortran element matrices, with modal analysis and sensitivities.
 
 # first: loads the kernel's OpenBLAS so that the extension finds it wherever installed
 from . import _blas  # noqa: F401  isort: skip
-from .case import Case, RayleighDamping, Scene, load_case
-from .components import (
+from ._version import __version__ as __version__
+from .errors import CaseError
+from .model.case import Case, RayleighDamping, Scene, load_case
+from .model.components import (
     Bearing,
     Body,
     Carrier,
-    CaseError,
     Gear,
     Mesh,
     PlanetaryStage,
     PlanetBearing,
     ToothDefect,
 )
-from .gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
-from .transient_settings import Probe, TorqueLaw, Transient
-
-__version__ = "0.1.0"
+from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+from .model.transient_settings import Probe, TorqueLaw, Transient
 
 __all__ = [
     "Bearing",

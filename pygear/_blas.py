@@ -41,7 +41,7 @@ def kernel_blas() -> dict[str, str]:
     generic fallback)."""
     from threadpoolctl import threadpool_info
 
-    from . import _kernel  # noqa: F401  (loads the library the kernel links)
+    from .kernel import _kernel  # noqa: F401  (loads the library the kernel links)
 
     wheel = _wheel_library()
     libraries = [info for info in threadpool_info() if info.get("user_api") == "blas"]

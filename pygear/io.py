@@ -20,7 +20,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from . import __version__
+from ._version import __version__
 
 __all__ = [
     "WriteInterrupted",
@@ -59,7 +59,7 @@ def _source_files() -> list[Path]:
     (an editable install; a wheel carries only the compiled kernel)."""
     package = Path(__file__).resolve().parent
     files = sorted(p for p in package.rglob("*.py") if "__pycache__" not in p.parts)
-    kernel = importlib.import_module("pygear._kernel").__file__
+    kernel = importlib.import_module("pygear.kernel._kernel").__file__
     if kernel:
         files.append(Path(kernel).resolve())
     fortran = package.parent / "fortran"
@@ -142,7 +142,7 @@ def signals_interrupt():
     being written would stay behind under its temporary name.  Raised as an exception
     instead, the writer's clean-up runs.  Only signals still at their default handler
     are taken (a handler a run installed, such as the deferred interrupt of
-    :mod:`pygear.newmark`, stays in force), and only in the main thread.  A second
+    :mod:`pygear.kernel.newmark`, stays in force), and only in the main thread.  A second
     signal while the first unwinds is ignored, so the clean-up completes.
     """
     if threading.current_thread() is not threading.main_thread():
@@ -208,13 +208,13 @@ def _flush_to_disk(path: str) -> None:
 
 
 def check_suffix(option: str, path: str | os.PathLike, suffix: str, what: str) -> None:
-    """Raise :class:`~pygear.components.CaseError` unless ``path`` ends in ``suffix``.
+    """Raise :class:`~pygear.errors.CaseError` unless ``path`` ends in ``suffix``.
 
     A command writes one kind of file; a target named as another kind (a figure name
     for NetCDF data) is refused before any work, so no file is overwritten by a
     file of another kind.
     """
-    from .components import CaseError
+    from .errors import CaseError
 
     path = Path(path)
     if path.suffix.lower() != suffix:

@@ -13,7 +13,7 @@ import os
 import shutil
 from pathlib import Path
 
-from .components import CaseError
+from .errors import CaseError
 
 __all__ = [
     "FLOAT_BYTES",

@@ -31,4 +31,4 @@ openblas_pc=$("$VENV/bin/python" -c \
 # editable: the extension is rebuilt on import whenever a Fortran or Python file changed
 "$VENV/bin/python" -m pip install -q --no-build-isolation \
   -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test]"
-"$VENV/bin/python" -c "import pygear._kernel" && echo "setup: pygear is installed in $VENV" >&2
+"$VENV/bin/python" -c "import pygear.kernel._kernel" && echo "setup: pygear is installed in $VENV" >&2

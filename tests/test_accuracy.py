@@ -11,7 +11,7 @@ import xarray as xr
 from conftest import consistent_stage, rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import Case, CaseError, Gearbox, Probe, RayleighDamping, Scene, TorqueLaw, Transient
-from pygear.accuracy import (
+from pygear.analysis.accuracy import (
     AccuracyStudy,
     Fidelity,
     accuracy_study,
@@ -20,7 +20,7 @@ from pygear.accuracy import (
     observed_orders,
     run_setting,
 )
-from pygear.accuracy_cli import parse_tolerance, write_accuracy
+from pygear.cli.accuracy import parse_tolerance, write_accuracy
 
 
 def test_observed_order_of_a_known_sequence():

@@ -22,10 +22,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pygear import CaseError, Probe, Scene, TorqueLaw, load_case
+from pygear.analysis.modal import solve_eigenproblem
 from pygear.assembly import assemble
-from pygear.case import get_parameter, replace_parameter
 from pygear.cli import main
-from pygear.modal import solve_eigenproblem
+from pygear.model.case import get_parameter, replace_parameter
 
 CASE = str(Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary")
 

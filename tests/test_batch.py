@@ -16,15 +16,15 @@ import pytest
 import xarray as xr
 
 from pygear import CaseError, Scene, load_case
+from pygear.analysis.modal import modal_analysis
+from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
-from pygear.case import replace_parameter
-from pygear.modal import modal_analysis
-from pygear.transient import run_transient
+from pygear.model.case import replace_parameter
 
 distributed = pytest.importorskip("distributed")
 
-from pygear import batch, sweep  # noqa: E402
-from pygear.cluster import jobqueue_cluster, validate_cluster_options  # noqa: E402
+from pygear.runs import batch, sweep  # noqa: E402
+from pygear.runs.cluster import jobqueue_cluster, validate_cluster_options  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"

@@ -22,9 +22,9 @@ import pytest
 import xarray as xr
 
 from pygear import load_case
+from pygear.analysis.transient import write_transient
 from pygear.cli import main
 from pygear.io import write_netcdf
-from pygear.transient import write_transient
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 SCENE = "long"
@@ -155,7 +155,7 @@ KILL_IN_CHECKPOINT = """
 import os, signal, sys
 import numpy as np
 from pygear import load_case
-from pygear.transient import write_transient
+from pygear.analysis.transient import write_transient
 
 saves = []
 real_savez = np.savez
@@ -282,7 +282,7 @@ def test_sigterm_in_process_stops_between_chunks(tmp_path):
         if len(calls) == 1:
             os.kill(os.getpid(), signal.SIGTERM)
 
-    from pygear.newmark import TransientInterrupted
+    from pygear.kernel.newmark import TransientInterrupted
 
     with pytest.raises(TransientInterrupted, match=r"by SIGTERM; state saved") as stopped:
         write_transient(

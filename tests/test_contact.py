@@ -1,4 +1,5 @@
-"""Tests of the tooth-contact table (pygear.contact, pygear.mesh_phasing, Fortran contact_table).
+"""Tests of the tooth-contact table (pygear.assembly.contact_table, pygear.assembly.mesh_phasing,
+Fortran contact_table).
 
 References come from PHYSICS.md 5 (the parabola, k_pk, the tooth formula), from
 exact quadrature, from the kinematics of PHYSICS.md 2, and from contact geometry
@@ -30,16 +31,13 @@ from pygear import (
     Scene,
     ToothDefect,
 )
+from pygear.analysis.mesh_stiffness import ContactLossWarning, mesh_stiffness_at_constant_speed
 from pygear.assembly import assemble
-from pygear.case import load_case
-from pygear.contact import (
-    ContactLossWarning,
-    build_contact_table,
-    mesh_stiffness_at_constant_speed,
-    write_mesh_stiffness,
-)
-from pygear.kernel import KernelError
-from pygear.mesh_phasing import ring_sun_phase, stage_phasing
+from pygear.assembly.contact_table import build_contact_table
+from pygear.assembly.mesh_phasing import ring_sun_phase, stage_phasing
+from pygear.kernel.calls import KernelError
+from pygear.model.case import load_case
+from pygear.runs.mesh_stiffness import write_mesh_stiffness
 
 STUDY = "yang2016_planetary"
 GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(3)

@@ -19,9 +19,9 @@ import pytest
 import xarray as xr
 
 from pygear import ToothDefect, load_case
-from pygear.contact import ContactLossWarning
-from pygear.signal import envelope_spectrum
-from pygear.transient import run_transient
+from pygear.analysis.mesh_stiffness import ContactLossWarning
+from pygear.analysis.signal import envelope_spectrum
+from pygear.analysis.transient import run_transient
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 DURATION = 2.5  # s: t_s, settling, and 1.5 s of steady running after the 1 s start-up

@@ -16,10 +16,10 @@ from conftest import (
 )
 
 from pygear import CaseError, Scene
+from pygear.analysis.modal import modal_analysis
+from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
 from pygear.cli import main
-from pygear.modal import modal_analysis
-from pygear.transient import run_transient
 
 TV = "time_varying_mesh_stiffness"
 
@@ -170,7 +170,7 @@ import dataclasses, json, sys
 import numpy as np
 from pygear import load_case
 from pygear._blas import kernel_blas
-from pygear.transient import run_transient
+from pygear.analysis.transient import run_transient
 
 case = load_case(sys.argv[1])
 scene = case.scene("runup")

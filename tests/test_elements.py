@@ -11,7 +11,7 @@ import scipy.linalg
 from conftest import case_of, consistent_stage
 
 from pygear.assembly import assemble
-from pygear.kernel import call
+from pygear.kernel.calls import call
 
 FORMULATIONS = ("improved", "consistent", "lin-parker")
 
@@ -164,7 +164,7 @@ def test_planet_mass_formulations_kinetic_energy():
 
 
 def test_speed_dependent_planet_terms():
-    from pygear import _kernel
+    from pygear.kernel.calls import _kernel
 
     gyroscopic, centrifugal = _kernel.planet_speed_matrices(0.66, 12.0)
     assert np.allclose(gyroscopic + gyroscopic.T, 0)

@@ -18,7 +18,6 @@ import warnings
 import numpy as np
 import pytest
 
-from pygear.components import CaseError
 from pygear.model import (
     GearGeometry,
     MeshGeometry,
@@ -45,6 +44,7 @@ from pygear.model import (
     working_pitch_radii,
     working_pressure_angle,
 )
+from pygear.model.components import CaseError
 
 MM = 1e-3
 

@@ -21,8 +21,8 @@ from pygear import (
     TorsionalSpring,
     load_case,
 )
+from pygear.analysis.modal import modal_analysis
 from pygear.assembly import assemble
-from pygear.modal import modal_analysis
 
 GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"
 # VALIDATION.md: stage 1 (N = 4) in the gearbox

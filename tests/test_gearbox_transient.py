@@ -17,10 +17,10 @@ import xarray as xr
 from conftest import rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import CaseError, Probe, load_case
+from pygear.analysis.transient import run_transient, transient_problem
 from pygear.assembly import assemble
-from pygear.outputs import mesh_frequency
-from pygear.probes import dof_row
-from pygear.transient import run_transient, transient_problem
+from pygear.assembly.dof_rows import dof_row
+from pygear.runs.outputs import mesh_frequency
 
 GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"
 

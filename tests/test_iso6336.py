@@ -1,5 +1,5 @@
 """ISO 6336-1:2019 method B single and mesh stiffness (Fortran module iso6336_stiffness,
-called through pygear.mesh_stiffness_laws).
+called through pygear.assembly.mesh_stiffness_laws).
 
 References are hand calculations from the standard's equations, carried out step by
 step below to 7 significant digits (rel 1e-6 covers that rounding), and the typical
@@ -13,10 +13,10 @@ import math
 
 import pytest
 
-from pygear import _kernel
-from pygear.components import CaseError
-from pygear.mesh_stiffness_laws import iso6336_mesh_stiffness
+from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
+from pygear.kernel.calls import _kernel
 from pygear.model import GearGeometry, MeshGeometry, transverse_contact_ratio
+from pygear.model.components import CaseError
 
 MM = 1e-3
 HAND = 1e-6  # hand calculations carry 7 significant digits

@@ -15,7 +15,7 @@ the run loses is floating-point rounding.  Integrated as absolute angles, the
 deflections b.q would be differences of terms |b_j q_j| at 2.4e5 rad and lose their
 digits in proportion (4e-6 of the static deflection after 1e7 steps, measured before
 rebasing); pygear takes the rigid rotation out of q every 1000 steps
-(:mod:`pygear.newmark_rebase`), so the tests hold deflections and speeds to the
+(:mod:`pygear.kernel.newmark_rebase`), so the tests hold deflections and speeds to the
 issue's 1e-9 relative at 1e6 and 1e7 steps, with no growth between them.  Memory is
 measured at 1e6 and 1e7 steps with decimated probes.
 """
@@ -34,8 +34,8 @@ import pytest
 import scipy.linalg
 
 from pygear import Probe, TorqueLaw
-from pygear.probes import dof_row
-from pygear.transient import transient_problem
+from pygear.analysis.transient import transient_problem
+from pygear.assembly.dof_rows import dof_row
 
 pytestmark = pytest.mark.slow
 

@@ -10,9 +10,9 @@ import pytest
 from conftest import case_of, consistent_stage
 
 from pygear import Scene
+from pygear.analysis.modal import modal_analysis
+from pygear.analysis.sensitivity import frequency_sensitivity
 from pygear.assembly import assemble
-from pygear.modal import modal_analysis
-from pygear.sensitivity import frequency_sensitivity
 
 # VALIDATION.md, seed Table 2 (N = 3)
 TABLE2_ROTATIONAL = {
@@ -193,7 +193,7 @@ def test_sensitivity_matches_finite_difference(study_case):
     parameter = "planetary.sun_mesh.stiffness"
     model = assemble(study_case, formulation="improved", dof_set="planar")
     sensitivity = frequency_sensitivity(model, [parameter])
-    from pygear.case import replace_parameter
+    from pygear.model.case import replace_parameter
 
     step = 1e-4 * 5e8
     up = modal_analysis(

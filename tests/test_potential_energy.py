@@ -1,4 +1,4 @@
-"""Potential-energy tooth and mesh stiffness (pygear.tooth_stiffness).
+"""Potential-energy tooth and mesh stiffness (pygear.assembly.tooth_stiffness).
 
 References: the published closed forms of Tian (2004) / Wu, Zuo & Parey (2008) for the
 bending, shear and axial integrals (healthy and with Tian's cracked section), Yang &
@@ -18,12 +18,8 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from pygear import _kernel
-from pygear.components import CaseError
-from pygear.mesh_stiffness_laws import iso6336_mesh_stiffness
-from pygear.model import GearGeometry, MeshGeometry
-from pygear.model import gear_geometry as geo
-from pygear.tooth_stiffness import (
+from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
+from pygear.assembly.tooth_stiffness import (
     ChippedTooth,
     RootCrack,
     Spall,
@@ -31,6 +27,10 @@ from pygear.tooth_stiffness import (
     mesh_stiffness,
     tooth_compliance,
 )
+from pygear.kernel.calls import _kernel
+from pygear.model import GearGeometry, MeshGeometry
+from pygear.model import gear_geometry as geo
+from pygear.model.components import CaseError
 
 MODULE = 3.2e-3
 WIDTH = 0.016

@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from pygear.analysis.transient import write_transient
 from pygear.cli import main
-from pygear.newmark import TransientError
-from pygear.transient import write_transient
+from pygear.kernel.newmark import TransientError
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 RING_TEETH = 96  # Z_r of the study case (Yang, Jiang & Han 2016, Table 1)
@@ -193,7 +193,7 @@ def _interrupted_checkpoint(case, scene, out: Path) -> Path:
 
 
 def _retarget_probe(case):
-    from pygear.transient_settings import Probe
+    from pygear.model.transient_settings import Probe
 
     scene = _short_scene(case)
     probes = (Probe("speed", "planetary.carrier", name="watched"),)

@@ -21,13 +21,13 @@ import numpy as np
 import pytest
 
 from pygear import CaseError, Probe, Scene, TorqueLaw, load_case
+from pygear.analysis.modal import solve_eigenproblem
+from pygear.analysis.transient import run_transient, transient_problem
 from pygear.assembly import assemble
-from pygear.case import replace_parameter
 from pygear.cli import main
-from pygear.components import Gear
-from pygear.modal import solve_eigenproblem
-from pygear.newmark import TransientError
-from pygear.transient import run_transient, transient_problem
+from pygear.kernel.newmark import TransientError
+from pygear.model.case import replace_parameter
+from pygear.model.components import Gear
 
 ROOT = Path(__file__).resolve().parent.parent
 STUDY = ROOT / "cases" / "yang2016_planetary"
@@ -110,8 +110,8 @@ def test_probe_name_refused_on_the_command_line_before_any_work(tmp_path, capsys
 
 def test_every_name_a_run_file_takes_is_refused_as_a_probe_name(study_case, tmp_path):
     """A run file's own names are the taken ones, whatever the file gains later."""
-    from pygear.transient import write_transient
-    from pygear.transient_settings import RUN_VARIABLES
+    from pygear.analysis.transient import write_transient
+    from pygear.model.transient_settings import RUN_VARIABLES
 
     scene = _runup(study_case, duration=0.01, mean_window=0.01, full_state=True)
     dataset, _ = write_transient(study_case, scene, tmp_path, figure=False)
@@ -180,7 +180,7 @@ def test_mean_window_outside_the_run_is_refused(study_case, window, rule):
 
 
 def test_json_text_never_writes_non_json_tokens():
-    from pygear.json_output import json_text
+    from pygear.runs.json_output import json_text
 
     text = json_text({"a": math.nan, "b": [math.inf, 1.5, -math.inf], "c": np.float64("nan")})
     assert _strict_json(text) == {"a": None, "b": [None, 1.5, None], "c": None}
@@ -241,7 +241,7 @@ def test_case_file_that_exits_is_a_case_error(tmp_path, body, capsys):
 
 
 def test_batch_records_a_case_that_exits_and_goes_on(tmp_path):
-    from pygear.batch import run_batch
+    from pygear.runs.batch import run_batch
 
     cases = tmp_path / "cases"
     (cases / "exits").mkdir(parents=True)
@@ -353,7 +353,7 @@ def test_transient_larger_than_memory_is_refused_with_the_estimate(study_case, m
 
 def test_transient_larger_than_the_disk_is_refused(study_case, tmp_path, monkeypatch):
     from pygear import resources
-    from pygear.transient import write_transient
+    from pygear.analysis.transient import write_transient
 
     monkeypatch.setattr(resources, "available_disk", lambda path: 1e6)
     scene = _runup(study_case, duration=0.5, mean_window=0.1)  # 10 x 20001 samples: 1.6 MB

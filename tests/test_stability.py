@@ -20,8 +20,8 @@ import pytest
 import scipy.linalg
 from scipy.integrate import solve_ivp
 
-from pygear.contact import LAW_CODES, ContactTable
-from pygear.newmark import (
+from pygear.assembly.contact_table import LAW_CODES, ContactTable
+from pygear.kernel.newmark import (
     BandedNewmark,
     KernelProbe,
     LawArrays,
@@ -728,7 +728,7 @@ def test_restart_is_refused_where_it_does_not_apply(study_case):
     """The restart solves the equation of motion at a step instant: average
     acceleration only, and not with tooth separation."""
     from pygear import CaseError
-    from pygear.transient import transient_problem
+    from pygear.analysis.transient import transient_problem
 
     scene = study_case.scene("runup")
     hht = dataclasses.replace(

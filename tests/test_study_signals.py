@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from pygear import load_case
+from pygear.analysis.modal import modal_analysis
+from pygear.analysis.peaks import find_peaks
+from pygear.analysis.signal import amplitude_spectrum, demodulated_resonance
+from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
-from pygear.modal import modal_analysis
-from pygear.peaks import find_peaks
-from pygear.signal import amplitude_spectrum, demodulated_resonance
-from pygear.transient import run_transient
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 RING_TEETH = 96  # Table 1
@@ -108,8 +108,8 @@ def test_planet_error_acts_through_mesh_phasing(case, runs):
     """With the displaced planet's meshes forced back to the nominal phases, only the
     0.1 deg of geometry is left: VALIDATION.md's prototype gives a ring RMS of about
     2.9e-3 m/s^2 for that; re-phased from the actual angle the response is far larger."""
-    from pygear.case import replace_parameter
-    from pygear.mesh_phasing import stage_phasing
+    from pygear.assembly.mesh_phasing import stage_phasing
+    from pygear.model.case import replace_parameter
 
     scene = case.scene("runup_planet_error")
     nominal = {name: p.phase for name, p in stage_phasing(case.gearbox.stages[0]).items()}

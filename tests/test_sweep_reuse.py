@@ -13,13 +13,13 @@ import xarray as xr
 
 from pygear import CaseError, load_case
 from pygear import io as pygear_io
+from pygear.analysis.modal import modal_analysis
 from pygear.assembly import assemble
-from pygear.case import replace_parameter
-from pygear.modal import modal_analysis
+from pygear.model.case import replace_parameter
 
 distributed = pytest.importorskip("distributed")
 
-from pygear import batch, sweep  # noqa: E402
+from pygear.runs import batch, sweep  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANETARY = ROOT / "cases" / "yang2016_planetary"
@@ -146,7 +146,7 @@ def test_error_record_or_nan_results_are_run_again(tmp_path, scheduler):
 def test_source_identity_follows_every_source_file(tmp_path, fresh_source_identity, monkeypatch):
     listed = pygear_io._source_files()
     names = {p.name for p in listed}
-    assert {"sweep.py", "sweep_points.py", "kernel.py", "__init__.py"} <= names
+    assert {"sweep.py", "sweep_points.py", "calls.py", "__init__.py"} <= names
     assert any(p.name.startswith("_kernel") for p in listed)  # the compiled kernel
     if (ROOT / "fortran").is_dir():  # an editable install: the Fortran sources too
         assert ROOT / "fortran" / "elements.f90" in listed

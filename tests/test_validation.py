@@ -10,7 +10,7 @@ from conftest import case_of, consistent_stage
 
 from pygear import CaseError, Scene
 from pygear.assembly import assemble
-from pygear.case import replace_parameter
+from pygear.model.case import replace_parameter
 
 
 @pytest.mark.parametrize(
@@ -75,7 +75,7 @@ def test_unknown_parameter_path(study_case):
 
 def test_bad_input_fails_before_assembly(monkeypatch):
     """Validation runs before any kernel call."""
-    import pygear.assembly as assembly
+    import pygear.assembly.matrices as assembly
 
     calls = []
     monkeypatch.setattr(assembly, "call", lambda *a: calls.append(a))

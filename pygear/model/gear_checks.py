@@ -1,5 +1,5 @@
 """Refusal rules for gear and mesh geometry: each raises
-:class:`pygear.components.CaseError` with one line naming the parameter and the rule,
+:class:`pygear.errors.CaseError` with one line naming the parameter and the rule,
 before anything is derived from a geometry that cannot mesh (docs/gear_geometry.md)."""
 
 from __future__ import annotations
@@ -7,8 +7,9 @@ from __future__ import annotations
 import math
 import warnings
 
-from ..components import CaseError, is_finite_number
+from ..errors import CaseError
 from . import gear_geometry as geo
+from .components import is_finite_number
 
 __all__ = [
     "POINTED_TIP_LIMIT",

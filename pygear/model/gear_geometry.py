@@ -543,7 +543,7 @@ def typed_value_mismatches(
 def require_typed_values_match(derived: MeshModelInputs, path: str, **typed: object) -> None:
     """Raise CaseError (one line, naming ``path``) when :func:`typed_value_mismatches`
     finds any; keyword arguments as there."""
-    from ..components import CaseError
+    from ..errors import CaseError
 
     found = typed_value_mismatches(derived, **typed)  # type: ignore[arg-type]
     if found:

@@ -1,0 +1,635 @@
+"""Transient analysis of a scene: the run-up of PHYSICS.md 6 and its equilibrium table.
+
+:func:`transient_problem` turns a case and a scene with ``Transient`` settings into
+a :class:`~pygear.kernel.newmark.BandedNewmark` integrator with its laws, meshes and
+probes; :func:`run_transient` runs it and returns an ``xarray.Dataset`` (one
+variable per probe over ``time``, the equilibrium speeds, t_s and every setting as
+attributes); :func:`write_transient` writes it as NetCDF (atomically) with the
+speed figure beside it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import signal
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..assembly.dof_rows import dof_row, rigid_rotation
+from ..assembly.effects import effect_attributes
+from ..assembly.matrices import Model, assemble
+from ..errors import CaseError
+from ..kernel.newmark import (
+    BandedNewmark,
+    KernelProbe,
+    LawArrays,
+    MeshTerms,
+    RunResult,
+    TransientError,
+    TransientInterrupted,
+)
+from ..kernel.probes import RPM_PER_RAD_S, compile_probes, state_probes
+from ..model.case import Case, Scene
+from ..model.components import PlanetaryStage
+from ..model.transient_settings import TorqueLaw, Transient
+from .transient_checks import (
+    check_static_deflection,
+    check_transient_disk,
+    check_transient_memory,
+    peak_torque,
+    with_soft_mesh_cause,
+)
+
+__all__ = [
+    "TransientProblem",
+    "equilibrium_table",
+    "runup_table_text",
+    "transient_summary",
+    "static_mesh_deflections",
+    "run_transient",
+    "transient_problem",
+    "write_transient",
+]
+
+
+@dataclass
+class TransientProblem:
+    """Everything a transient run needs, built and checked before it starts."""
+
+    case: Case
+    scene: Scene
+    settings: Transient
+    model: Model
+    solver: BandedNewmark
+    probes: list[KernelProbe]
+    input_label: str
+    output_label: str
+    ratio: float
+    contact_sign: np.ndarray
+    effects: tuple[str, ...]
+    drive_sign: int = 1  # -1: input member and drive law mirrored in the kernel
+    static_deflection: np.ndarray | None = None  # per mesh, under the peak drive [m]
+
+
+def _default_member(case: Case, member: str) -> str:
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage):
+            return f"{stage.name}.{member}.theta_z"
+    raise CaseError(f"transient.input and transient.output must be given for {case.name!r}")
+
+
+def _member_row(model: Model, label: str, path: str) -> np.ndarray:
+    row = dof_row(model, label)
+    if row is None or not np.any(row):
+        kind = "not a DOF" if row is None else "a DOF held fixed"
+        raise CaseError(
+            f"{path}: {label!r} is {kind} of this model (e.g. planetary.carrier.theta_z)"
+        )
+    return row
+
+
+def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: str) -> float:
+    """Output over input speed, i of PHYSICS.md 6: the stage's 1 + r_br/r_bs for its
+    carrier and sun, else the ratio in the model's rigid-body rotation (negative when
+    the output turns against the input)."""
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage):
+            carrier, sun = f"{stage.name}.carrier.theta_z", f"{stage.name}.sun.theta_z"
+            if (input_label, output_label) == (carrier, sun):
+                return stage.speed_ratio
+            if (input_label, output_label) == (sun, carrier):
+                return 1.0 / stage.speed_ratio
+    rigid = rigid_rotation(model)
+    speed_in = dof_row(model, input_label) @ rigid if rigid is not None else 0.0
+    speed_out = dof_row(model, output_label) @ rigid if rigid is not None else 0.0
+    scale = 1e-9 * np.abs(rigid).max() if rigid is not None else math.inf
+    if not (abs(speed_in) > scale and abs(speed_out) > scale):
+        raise CaseError(
+            "transient.load.ratio: the input and output are not linked by one rigid-body "
+            "rotation; give the generator law its ratio"
+        )
+    return float(speed_out / speed_in)
+
+
+def _law_arrays(
+    law: TorqueLaw | None, ratio: float, speed_reference: float, sign: int = 1
+) -> LawArrays:
+    """The kernel's form of a law; ``sign`` = -1 mirrors a drive law's torque."""
+    if law is None:
+        return LawArrays()
+    if law.kind == "constant":
+        return LawArrays("constant", (sign * law.torque, 0.0, 0.0, 0.0))
+    if law.kind == "ramp":
+        return LawArrays("ramp", (sign * law.torque, law.start, law.ramp_time, 0.0))
+    if law.kind == "table":
+        return LawArrays("table", times=law.times, torques=tuple(sign * t for t in law.torques))
+    i = law.ratio or ratio
+    return LawArrays("speed_power", (law.torque / i, i * speed_reference, law.exponent, 0.0))
+
+
+def static_mesh_deflections(
+    model: Model, input_row: np.ndarray, output_row: np.ndarray | None, torque: float = 1.0
+) -> np.ndarray:
+    """Mesh deflections b_m . q of the static state under ``torque`` on the input member.
+
+    The output member is held (a stiff torsional spring); without one, the drive is
+    balanced by the inertia forces of the rigid-body acceleration (inertia relief).
+    """
+    k = np.array(model.stiffness, dtype=np.float64)
+    force = torque * input_row
+    if output_row is not None and np.any(output_row):
+        k = k + 1e3 * np.abs(np.diag(k)).max() * np.outer(output_row, output_row)
+    else:
+        import scipy.linalg
+
+        values, vectors = scipy.linalg.eigh(k, model.mass)
+        rigid = vectors[:, values < 1e-8 * np.abs(values).max()]
+        force = force - model.mass @ rigid @ (rigid.T @ force)
+    q = np.linalg.lstsq(k, force, rcond=None)[0]
+    return np.array([mesh.deflection @ q for mesh in model.meshes])
+
+
+def transient_problem(
+    case: Case, scene: Scene, *, formulation: str | None = None, model: Model | None = None
+) -> TransientProblem:
+    """Assemble, check and set up the transient of ``scene``; nothing is integrated.
+
+    Raises
+    ------
+    CaseError
+        A setting, a member or a probe target that does not fit the model.
+    """
+    path = f"scenes.{scene.name}.transient"
+    settings = scene.transient
+    if settings is None:
+        raise CaseError(f"{path}: scene {scene.name!r} has no transient settings")
+    settings.validate(path)
+    model = model or assemble(case, scene, formulation=formulation)
+    effects = tuple(scene.effects)
+    varying = "time_varying_mesh_stiffness" in effects
+    separation = "tooth_separation" in effects
+    if settings.restart_at_jumps and separation:
+        raise CaseError(
+            f"{path}.restart_at_jumps does not combine with the tooth_separation effect "
+            "(an open contact is a contact state, not a stiffness jump of the table)"
+        )
+    input_label = settings.input or _default_member(case, "carrier")
+    output_label = settings.output or _default_member(case, "sun")
+    input_row = _member_row(model, input_label, f"{path}.input")
+    output_row = _member_row(model, output_label, f"{path}.output")
+    load = settings.load
+    ratio = math.nan
+    if load is not None and load.kind == "generator":
+        ratio = load.ratio or _kinematic_ratio(case, model, input_label, output_label)
+        if ratio < 0:
+            # the output turns against the input: the law acts on its speed along the
+            # input's sense, so it still brakes the output's actual rotation
+            output_row = -output_row
+            ratio = -ratio
+    omega_0 = (settings.speed_reference_rpm or 0.0) / RPM_PER_RAD_S
+    direction = settings.drive.direction() if settings.drive is not None else 1
+
+    n_mesh = len(model.meshes)
+    if settings.contact_sign is not None:
+        if len(settings.contact_sign) != n_mesh:
+            raise CaseError(f"{path}.contact_sign must hold one sign per mesh ({n_mesh})")
+        contact_sign = np.array(settings.contact_sign, dtype=np.int32)
+    else:
+        deflection = static_mesh_deflections(model, input_row, output_row, float(direction))
+        contact_sign = np.where(deflection < 0, -1, 1).astype(np.int32)
+    # a load holds the output at equilibrium (the mesh carries the whole drive torque);
+    # without one the drive only accelerates the gearbox (inertia relief)
+    held = output_row if peak_torque(settings.load) > 0 else None
+    static = check_static_deflection(
+        model, settings, static_mesh_deflections(model, input_row, held), path
+    )
+    meshes = None
+    if n_mesh:  # without either effect the kernel only reads them for mesh probes
+        table = None
+        angle = np.zeros((n_mesh, model.size))
+        if varying:
+            from ..assembly.contact_table import build_contact_table
+
+            sun_driven = ".sun." not in input_label
+            table = build_contact_table(
+                case, model, scene, direction=direction, sun_driven=sun_driven
+            )
+            for m, members in enumerate(table.angles):
+                for member, sign in zip(members, (1.0, -1.0)):
+                    row = dof_row(model, f"{member}.theta_z")
+                    if row is not None:
+                        angle[m] += sign * row
+        meshes = MeshTerms(
+            deflection=np.array([mesh.deflection for mesh in model.meshes]),
+            mean_stiffness=np.array([mesh.mean_stiffness for mesh in model.meshes]),
+            contact_sign=contact_sign,
+            angle=angle,
+            table=table,
+            time_varying=varying,
+            separation=separation,
+            names=[mesh.name for mesh in model.meshes],
+        )
+    probes = compile_probes(model, settings.probes, f"{path}.probes")
+    if settings.full_state:
+        probes += state_probes(model)
+    check_transient_memory(settings, len(probes), path)
+    solver = BandedNewmark(
+        model.mass,
+        model.damping,
+        model.stiffness,
+        settings.time_step,
+        integrator=settings.integrator,
+        spectral_radius=settings.spectral_radius,
+        meshes=meshes,
+        equivalent_load=settings.equivalent_load,
+        tolerance=settings.tolerance,
+        max_iterations=settings.max_iterations,
+        refactor_threshold=settings.refactor_threshold,
+        restart_at_jumps=settings.restart_at_jumps,
+        # the kernel measures the input speed (t_s) along the drive's sense: a negative
+        # drive runs with the input member and the drive law mirrored (same force)
+        drive=_law_arrays(settings.drive, ratio, omega_0, sign=direction),
+        load=_law_arrays(load, ratio, omega_0),
+        input_weights=direction * input_row,
+        output_weights=output_row,
+        speed_reference=omega_0,
+        deflection_limit=settings.deflection_limit,
+        labels=model.dof_labels,
+    )
+    return TransientProblem(
+        case,
+        scene,
+        settings,
+        model,
+        solver,
+        probes,
+        input_label,
+        output_label,
+        ratio,
+        contact_sign,
+        effects,
+        drive_sign=direction,
+        static_deflection=static,
+    )
+
+
+def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
+    """Member speeds [rpm] and planet tangential speeds [m/s] from mean DOF velocities.
+
+    Keys are member names (``carrier``, ``sun``, ``planet1``; ``stage.member`` with
+    several stages).  A planet's speed is its theta_z DOF: the spin relative to the
+    carrier (improved, consistent) or in the carrier frame (lin-parker).
+    """
+    stages = {node.name.split(".", 1)[0] for node in model.nodes if node.role != "housing"}
+    speeds, tangential = {}, {}
+    for node in model.nodes:
+        if node.role == "housing":
+            continue
+        key = node.name.split(".", 1)[1] if len(stages) == 1 else node.name
+        row = dof_row(model, f"{node.name}.theta_z")
+        if row is not None:
+            speeds[key] = float(row @ mean_velocity * RPM_PER_RAD_S)
+        eta = dof_row(model, f"{node.name}.eta")
+        if node.role == "planet" and eta is not None:
+            tangential[key] = float(eta @ mean_velocity)
+    return {"speed_rpm": speeds, "tangential_speed": tangential}
+
+
+def run_transient(
+    case: Case,
+    scene: Scene,
+    *,
+    formulation: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 60.0,
+    resume: str | os.PathLike | None = None,
+    problem: TransientProblem | None = None,
+) -> xr.Dataset:
+    """Run the transient of ``scene`` and return its dataset (nothing is written).
+
+    Raises
+    ------
+    CaseError
+        Bad settings, refused before the run.
+    TransientError
+        The run diverged (message: time, DOF or mesh, likely cause).
+    TransientInterrupted
+        Ctrl-C between two chunks.
+    """
+    started = time.perf_counter()
+    problem = problem or transient_problem(case, scene, formulation=formulation)
+    settings = problem.settings
+    keyed = checkpoint is not None or resume is not None
+    try:
+        result = problem.solver.run(
+            settings.steps,
+            problem.probes,
+            decimation=settings.decimation,
+            window_steps=int(round(settings.mean_window / settings.time_step)),
+            progress=progress,
+            checkpoint=checkpoint,
+            checkpoint_every=checkpoint_every,
+            resume=resume,
+            identity=checkpoint_identity(problem) if keyed else "",
+        )
+    except TransientError as error:
+        static = problem.static_deflection
+        if static is None:
+            raise
+        raise with_soft_mesh_cause(error, problem.model, static, settings) from None
+    dataset = _dataset(problem, result)
+    dataset.attrs["wall_s"] = time.perf_counter() - started
+    return dataset
+
+
+def checkpoint_identity(problem: TransientProblem) -> str:
+    """Hash (16 hex digits) of what shapes a run's state and file beyond the solver's
+    arrays: every input of the case and of the scene but its list of analyses (which
+    write other files), the model's formulation and DOF set, the members driven, and
+    the code (:func:`pygear.io.source_identity`).  A checkpoint keyed by it resumes
+    only the run that wrote it."""
+    from .. import io
+
+    case = {f.name: getattr(problem.case, f.name) for f in dataclasses.fields(problem.case)}
+    case.pop("scenes", None)  # other scenes do not shape this one
+    scene = {f.name: getattr(problem.scene, f.name) for f in dataclasses.fields(problem.scene)}
+    scene.pop("analyses", None)
+    model = problem.model
+    return io.stable_digest(
+        (
+            case,
+            scene,
+            (model.formulation, model.dof_set, problem.input_label, problem.output_label),
+            (problem.ratio, problem.contact_sign, problem.effects),
+            io.source_identity(),
+        )
+    )
+
+
+def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
+    model, settings, solver = problem.model, problem.settings, problem.solver
+    time_attrs = {"units": "s", "long_name": "time", "standard_name": "time"}
+    data_vars = {}
+    state = {}
+    for probe, values in zip(problem.probes, result.samples):
+        if probe.name.startswith("__"):
+            state.setdefault(probe.kind, []).append(values)
+        else:
+            if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
+                values = problem.drive_sign * values
+            data_vars[probe.name] = (("time",), values, probe.attrs)
+    units = {
+        "displacement": "m or rad",
+        "velocity": "m/s or rad/s",
+        "acceleration": "m/s^2 or rad/s^2",
+    }
+    for kind, rows in state.items():
+        data_vars[kind] = (
+            ("time", "dof"),
+            np.array(rows).T,
+            {"units": units[kind], "long_name": f"{kind} of every DOF"},
+        )
+    table = equilibrium_table(model, result.mean_velocity)
+    members = list(table["speed_rpm"])
+    planets = list(table["tangential_speed"])
+    data_vars["equilibrium_speed"] = (
+        ("member",),
+        np.array([table["speed_rpm"][m] for m in members]),
+        {
+            "units": "rpm",
+            "long_name": f"mean theta_z speed over the last {settings.mean_window:g} s",
+        },
+    )
+    data_vars["planet_tangential_speed"] = (
+        ("planet",),
+        np.array([table["tangential_speed"][p] for p in planets]),
+        {
+            "units": "m/s",
+            "long_name": f"mean eta velocity over the last {settings.mean_window:g} s",
+        },
+    )
+    data_vars["t_s"] = (
+        (),
+        result.t_s,
+        {"units": "s", "long_name": "first instant the input speed reaches omega_0"},
+    )
+    coords = {
+        "time": ("time", result.time, time_attrs),
+        "member": ("member", members, {"long_name": "body (theta_z speed)"}),
+        "planet": ("planet", planets, {"long_name": "planet"}),
+    }
+    if state:
+        coords["dof"] = ("dof", model.dof_labels, {"long_name": "reduced DOF"})
+    c = solver.coefficients
+    attrs = {
+        "case": problem.case.name,
+        "scene": problem.scene.name,
+        "formulation": model.formulation,
+        "dof_set": model.dof_set,
+        "effects": ", ".join(problem.effects) or "none (constant mesh stiffness)",
+        "integrator": settings.integrator,
+        "spectral_radius": c["rho_inf"],
+        "newmark_beta": c["beta"],
+        "newmark_gamma": c["gamma"],
+        "alpha_m": c["alpha_m"],
+        "alpha_f": c["alpha_f"],
+        "equivalent_load": solver.equivalent_load,
+        "tolerance": settings.tolerance,
+        "time_step": settings.time_step,
+        "duration": result.steps * settings.time_step,
+        "sample_rate": 1.0 / (settings.decimation * settings.time_step),
+        "steps": result.steps,
+        "bandwidth": solver.bandwidth,
+        "input": problem.input_label,
+        "output": problem.output_label,
+        "drive": settings.drive.describe() if settings.drive else "none",
+        "load": settings.load.describe() if settings.load else "none",
+        "speed_ratio": problem.ratio,
+        "speed_reference_rpm": settings.speed_reference_rpm or 0.0,
+        "rayleigh_alpha": problem.case.damping.mass_coefficient,
+        "rayleigh_beta": problem.case.damping.stiffness_coefficient,
+        "contact_sign": " ".join(str(int(s)) for s in problem.contact_sign),
+        "mean_window": settings.mean_window,
+        "solver_wall_s": result.solver_wall_s,
+        **{f"solver_{k}": v for k, v in result.counters.items()},
+        **effect_attributes(model, solver.equivalent_load),  # pygear.assembly.effects
+    }
+    ring = _first_ring_teeth(problem.case)
+    if ring and "carrier" in table["speed_rpm"]:
+        attrs["mesh_frequency_hz"] = ring * table["speed_rpm"]["carrier"] / 60.0
+    return xr.Dataset(data_vars, coords, attrs)
+
+
+def _first_ring_teeth(case: Case) -> int | None:
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage):
+            return stage.ring.teeth
+    return None
+
+
+def write_transient(
+    case: Case,
+    scene: Scene,
+    directory: str | os.PathLike,
+    *,
+    formulation: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    figure: bool = True,
+    model: Model | None = None,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 60.0,
+    resume: str | os.PathLike | None = None,
+) -> tuple[xr.Dataset, list[Path]]:
+    """Run the scene's transient and write ``<scene>.nc`` (and ``<scene>_speeds.png``).
+
+    The file is written under a temporary name and renamed when complete; a run
+    that fails or is interrupted writes nothing (but its checkpoint, when asked).
+    The file carries the frequencies ``pygear analyze`` names peaks with
+    (:func:`pygear.runs.outputs.analysis_references`).  A checkpoint holds the finished
+    run until the result is written, and is removed then: Ctrl-C or SIGTERM while
+    writing removes the temporary file and keeps the checkpoint, from which a resumed
+    run writes the result without integrating again.
+
+    Raises
+    ------
+    TransientInterrupted
+        Ctrl-C or SIGTERM, during the run or while its files are written.
+    """
+    from ..io import WriteInterrupted, signals_interrupt, write_netcdf
+    from ..runs.outputs import analysis_references
+
+    directory = Path(directory)
+    stage = "setting up the run"
+    path = None
+    with signals_interrupt():  # a signal while writing raises, so temporaries are removed
+        try:
+            problem = transient_problem(case, scene, formulation=formulation, model=model)
+            check_transient_disk(
+                problem.settings, len(problem.probes), directory, f"scenes.{scene.name}.transient"
+            )
+            dataset = run_transient(
+                case,
+                scene,
+                progress=progress,
+                problem=problem,
+                checkpoint=checkpoint,
+                checkpoint_every=checkpoint_every,
+                resume=resume,
+            )
+            stage = "writing the result"
+            dataset = dataset.merge(analysis_references(case, problem.model, dataset))
+            path = write_netcdf(
+                dataset,
+                directory / f"{scene.name}.nc",
+                title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
+                input_hash=case.input_hash(),
+            )
+            written = [path]
+            if figure and any(
+                v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()
+            ):
+                written.append(_write_speed_figure(dataset, directory / f"{scene.name}_speeds.png"))
+        except WriteInterrupted as interrupt:
+            raise TransientInterrupted(
+                _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
+            ) from None
+    if checkpoint is not None:
+        Path(checkpoint).unlink(missing_ok=True)
+    return dataset, written
+
+
+def _write_speed_figure(dataset: xr.Dataset, target: Path) -> Path:
+    from ..io import atomic_path
+    from ..plots.transient import plot_speeds
+
+    with atomic_path(target) as temporary:
+        plot_speeds([dataset], temporary, format="png")
+    return target
+
+
+def _interrupted_writing(interrupt, stage: str, path: Path | None, checkpoint) -> str:
+    """One line on what a signal outside the integration left behind."""
+    name = signal.Signals(interrupt.signal_number).name
+    if stage != "writing the result":
+        return f"interrupted by {name} while {stage}; no result file written"
+    if path is not None:
+        return f"interrupted by {name} after writing {path}; its figure was not written"
+    if checkpoint is not None:
+        kept = (
+            f"the finished run is kept in {checkpoint}: `pygear run --resume` writes the "
+            "result from it without running again"
+        )
+    else:
+        kept = "the run is lost (no checkpoint: --checkpoint-every or --resume keeps one)"
+    return f"interrupted by {name} while writing the result; {kept}; no result file written"
+
+
+def transient_summary(dataset: xr.Dataset) -> dict:
+    """The numbers ``pygear run --json`` prints for a transient scene."""
+    speeds = dict(zip(dataset.member.values.tolist(), dataset.equilibrium_speed.values.tolist()))
+    tangential = dataset.planet_tangential_speed.values
+    t_s = float(dataset.t_s)
+    return {
+        "t_s": t_s if math.isfinite(t_s) else None,
+        "equilibrium_speed_rpm": speeds,
+        "planet_tangential_speed": float(tangential[0]) if tangential.size else None,
+        "steps": int(dataset.attrs["steps"]),
+        "solver_wall_s": float(dataset.attrs["solver_wall_s"]),
+        "equivalent_load": dataset.attrs["equivalent_load"],
+    }
+
+
+def runup_table_text(datasets: dict[str, xr.Dataset]) -> str:
+    """The run-up table (the seed's Table 3) of several runs side by side."""
+    names = list(datasets)
+    rows = [("", [datasets[n].attrs["formulation"] for n in names])]
+
+    def speed(ds: xr.Dataset, member: str) -> float:
+        match = [v for m, v in zip(ds.member.values, ds.equilibrium_speed.values) if m == member]
+        return float(match[0]) if match else math.nan
+
+    rows.append(("t_s [s]", [f"{float(datasets[n].t_s):.4f}" for n in names]))
+    members = list(datasets[names[0]].member.values)
+    if "carrier" not in members:  # a gearbox: every member's speed, stage by stage
+        for member in members:
+            rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
+        return _table_text(names, rows)
+    for member in ("carrier", "sun", "planet1"):
+        rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
+    rows.append(
+        (
+            "sun/carrier",
+            [f"{speed(datasets[n], 'sun') / speed(datasets[n], 'carrier'):.5f}" for n in names],
+        )
+    )
+    rows.append(
+        (
+            "planet1 tangential [m/s]",
+            [
+                f"{float(datasets[n].planet_tangential_speed[0]):.4f}"
+                if datasets[n].planet_tangential_speed.size
+                else "-"
+                for n in names
+            ],
+        )
+    )
+    return _table_text(names, rows)
+
+
+def _table_text(names: list[str], rows: list[tuple[str, list[str]]]) -> str:
+    label_width = max(26, *(len(label) + 2 for label, _ in rows))
+    width = max(12, *(len(n) for n in names))
+    lines = [f"{'':<{label_width}}" + "".join(f"{n:>{width + 2}}" for n in names)]
+    lines += [
+        f"{label:<{label_width}}" + "".join(f"{v:>{width + 2}}" for v in values)
+        for label, values in rows
+    ]
+    return "\n".join(lines)

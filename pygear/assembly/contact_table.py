@@ -1,0 +1,377 @@
+"""Tooth-contact table: time-varying mesh stiffness with phasing and tooth defects.
+
+:func:`build_contact_table` turns a case (meshes, phasing, single-pair laws,
+defects) into the flat arrays of the Fortran module ``contact_table``, which
+evaluates every mesh at a state (PHYSICS.md 5).  The constant-speed evaluation is
+:func:`pygear.analysis.mesh_stiffness.mesh_stiffness_at_constant_speed`.
+
+Each mesh's gear 1 is the central member (sun or ring) and gear 2 the planet;
+tooth numbering and phases are derived in :mod:`pygear.assembly.mesh_phasing`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import CaseError
+from ..kernel import _kernel
+from ..kernel.calls import KernelError
+from ..model.case import Case, Scene, merged_defects, validate_defects
+from ..model.components import PlanetaryStage, ToothDefect
+from ..model.gearbox import ParallelStage
+from .dof_rows import dof_row, rigid_rotation
+from .matrices import Model
+from .mesh_phasing import stage_phasing
+
+__all__ = ["LAW_CODES", "ContactTable", "build_contact_table"]
+
+LAW_CODES = {"parabola": 1, "tabulated": 2, "helical": 3}
+"""Single-pair law codes of the Fortran module."""
+
+_ERRORS = {
+    1: "a table entry is out of range",
+    2: "an unknown single-pair law code",
+    3: "an array is too small for the contact ratio or the packed data",
+    4: "a state is not finite or lies beyond 2**50 mesh cycles",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class ContactTable:
+    """Flat arrays of the tooth-contact table, one entry (or column) per mesh.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Mesh names (``sun-planet1``; ``<stage>.sun-planet1`` with several stages).
+    gears : tuple of (str, str)
+        Gear 1 (sun or ring) and gear 2 (planet) of each mesh, as ``stage.member``.
+    angles : tuple of (str, str)
+        Members (a, b) with theta_rel = theta_z(a) - theta_z(b): (sun, carrier) for a
+        sun-planet mesh, (carrier, ring) for a ring-planet mesh.
+    teeth, tooth_offset, factor_start : ndarray of int32, shape (2, n_mesh)
+        Z1 and Z2; i0 and j0; offsets of each gear's factors in ``factor`` (-1: healthy).
+    cycle_sign, law, curve_start, curve_size : ndarray of int32, shape (n_mesh,)
+        sigma; single-pair law code; tabulated curve offset and length.
+    mean_stiffness, contact_ratio, end_to_peak, phase : ndarray of float64
+        k-bar [N/m], eps, lambda, gamma [mesh cycles].
+    curve, factor : ndarray of float64
+        Packed unit-mean curves and per-tooth factors (each padded to length >= 1).
+    max_pairs : int
+        Pairs per mesh the output arrays hold: ceil(max eps) + 1.
+    defects : tuple of ToothDefect
+        The defects the factors come from.
+    """
+
+    names: tuple[str, ...]
+    gears: tuple[tuple[str, str], ...]
+    angles: tuple[tuple[str, str], ...]
+    teeth: np.ndarray
+    cycle_sign: np.ndarray
+    tooth_offset: np.ndarray
+    mean_stiffness: np.ndarray
+    contact_ratio: np.ndarray
+    end_to_peak: np.ndarray
+    phase: np.ndarray
+    law: np.ndarray
+    curve_start: np.ndarray
+    curve_size: np.ndarray
+    curve: np.ndarray
+    factor_start: np.ndarray
+    factor: np.ndarray
+    max_pairs: int
+    defects: tuple[ToothDefect, ...] = ()
+
+    @property
+    def size(self) -> int:
+        """Number of meshes."""
+        return len(self.names)
+
+    def kernel_arguments(self) -> tuple:
+        """The table arguments of the ``contact_table_*`` kernel routines, in order."""
+        return (
+            self.teeth,
+            self.cycle_sign,
+            self.tooth_offset,
+            self.mean_stiffness,
+            self.contact_ratio,
+            self.end_to_peak,
+            self.phase,
+            self.law,
+            self.curve_start,
+            self.curve_size,
+            self.curve,
+            self.factor_start,
+            self.factor,
+            self.max_pairs,
+        )
+
+    def mesh_cycle(self, theta: np.ndarray) -> np.ndarray:
+        """s = sigma Z1 theta / 2 pi + gamma for relative angles ``theta`` (..., n_mesh)."""
+        return self.cycle_sign * self.teeth[0] * np.asarray(theta) / (2 * np.pi) + self.phase
+
+    def evaluate(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """Evaluate every mesh at one state.
+
+        Parameters
+        ----------
+        theta : array_like, shape (n_mesh,)
+            Rotation of each mesh's gear 1 relative to the carrier [rad].
+
+        Returns
+        -------
+        dict
+            ``stiffness`` (n_mesh) [N/m], ``pairs`` and ``loaded_pairs`` (n_mesh),
+            ``position`` (n_mesh, max_pairs) [mesh cycles, -1 unused] and
+            ``tooth_1``, ``tooth_2`` (n_mesh, max_pairs) [0-based, -1 unused].
+        """
+        theta = np.ascontiguousarray(theta, dtype=np.float64)
+        stiffness, pairs, loaded, position, tooth, ierr = _kernel.contact_table_evaluate(
+            theta, *self.kernel_arguments()
+        )
+        self._raise(ierr, "contact_table_evaluate")
+        return {
+            "stiffness": stiffness,
+            "pairs": pairs,
+            "loaded_pairs": loaded,
+            "position": position.T,
+            "tooth_1": tooth[0].T,
+            "tooth_2": tooth[1].T,
+        }
+
+    def series(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """Evaluate every mesh at many states in one kernel call.
+
+        Parameters
+        ----------
+        theta : array_like, shape (n_state, n_mesh)
+            Relative rotations of gear 1 [rad], one row per state.
+
+        Returns
+        -------
+        dict
+            As :meth:`evaluate`, with a leading state axis.
+        """
+        theta = np.asarray(theta, dtype=np.float64)
+        stiffness, pairs, loaded, position, tooth, bad, ierr = _kernel.contact_table_series(
+            np.asfortranarray(theta.T), *self.kernel_arguments()
+        )
+        self._raise(ierr, "contact_table_series", state=int(bad))
+        return {
+            "stiffness": stiffness.T,
+            "pairs": pairs.T,
+            "loaded_pairs": loaded.T,
+            "position": position.transpose(2, 1, 0),
+            "tooth_1": tooth[0].transpose(2, 1, 0),
+            "tooth_2": tooth[1].transpose(2, 1, 0),
+        }
+
+    def check(self) -> None:
+        """Run the kernel's table check; raise :class:`KernelError` naming the mesh at fault."""
+        bad, ierr = _kernel.contact_table_check(*self.kernel_arguments())
+        if ierr:
+            where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
+            raise KernelError(
+                f"kernel routine contact_table_check: "
+                f"{_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
+            )
+
+    def _raise(self, ierr: int, routine: str, state: int = 0) -> None:
+        if ierr:
+            where = f" at state {state - 1}" if state > 0 else ""
+            raise KernelError(
+                f"kernel routine {routine}: {_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
+            )
+
+
+def _normalised_curve(curve: tuple[float, ...]) -> np.ndarray:
+    """Samples scaled to unit mean over [0, eps] under linear interpolation (trapezoid rule)."""
+    values = np.asarray(curve, dtype=np.float64)
+    mean = (values.sum() - 0.5 * (values[0] + values[-1])) / (len(values) - 1)
+    return values / mean
+
+
+def build_contact_table(
+    case: Case,
+    model: Model,
+    scene: Scene | None = None,
+    *,
+    direction: int = 1,
+    sun_driven: bool = True,
+) -> ContactTable:
+    """The tooth-contact table of an assembled model's meshes.
+
+    Parameters
+    ----------
+    case : Case
+        The case (stages, meshes, tooth numbers, phase overrides, defects).
+    model : Model
+        The assembled model; its ``meshes`` fix the order of the table.
+    scene : Scene, optional
+        Scene whose defects apply on top of the case's.
+    direction : int
+        sigma = +1 when each sun turns in +z relative to its carrier, -1 otherwise.
+    sun_driven : bool
+        True when the carrier drives and the sun is the output (the seed's case);
+        it decides where contact starts and so the ring-to-sun phase.
+
+    Returns
+    -------
+    ContactTable
+        Checked by the kernel.
+
+    Raises
+    ------
+    CaseError
+        A tooth number is missing, or a scene defect does not fit the gearbox.
+    """
+    if scene is not None:
+        validate_defects(case.gearbox, scene.defects, f"scene {scene.name!r} defects")
+    defects = merged_defects(case, scene)
+    several = len(case.gearbox.stages) > 1
+    phasing: dict[str, dict] = {}
+    rows = []
+    curves: list[np.ndarray] = []
+    curve_offset = 0
+    parallel_sense = _parallel_senses(case, model)
+    for mesh in model.meshes:
+        stage = case.gearbox.stage(mesh.stage)
+        prefix = f"{stage.name}." if several else ""
+        if isinstance(stage, ParallelStage):
+            row = _parallel_row(stage, mesh, direction * parallel_sense[stage.name])
+            component = stage.mesh
+        else:
+            if stage.name not in phasing:
+                phasing[stage.name] = stage_phasing(
+                    stage, direction=direction, sun_driven=sun_driven
+                )
+            row = _planetary_row(stage, mesh, phasing[stage.name][mesh.name], direction)
+            component = getattr(stage, f"{row['central']}_mesh")
+        row["name"] = prefix + mesh.name
+        if component.stiffness_curve is not None:
+            curve = _normalised_curve(component.stiffness_curve)
+            row.update(law=LAW_CODES["tabulated"], start=curve_offset, size=len(curve))
+            curves.append(curve)
+            curve_offset += len(curve)
+        rows.append(row)
+    factor_start, factor = _pack_factors(case, rows, defects)
+    ratios = np.array([r["ratio"] for r in rows], dtype=np.float64)
+    table = ContactTable(
+        names=tuple(r["name"] for r in rows),
+        gears=tuple(r["gears"] for r in rows),
+        angles=tuple(r["angles"] for r in rows),
+        teeth=np.asfortranarray(np.array([r["teeth"] for r in rows], dtype=np.int32).T),
+        cycle_sign=np.array([r["sign"] for r in rows], dtype=np.int32),
+        tooth_offset=np.asfortranarray(np.array([r["offset"] for r in rows], dtype=np.int32).T),
+        mean_stiffness=np.array([r["mean"] for r in rows], dtype=np.float64),
+        contact_ratio=ratios,
+        end_to_peak=np.array([r["lam"] for r in rows], dtype=np.float64),
+        phase=np.array([r["phase"] for r in rows], dtype=np.float64),
+        law=np.array([r["law"] for r in rows], dtype=np.int32),
+        curve_start=np.array([r["start"] for r in rows], dtype=np.int32),
+        curve_size=np.array([r["size"] for r in rows], dtype=np.int32),
+        curve=np.concatenate(curves + [np.zeros(1)]),
+        factor_start=factor_start,
+        factor=factor,
+        max_pairs=int(math.ceil(ratios.max())) + 1 if len(rows) else 1,
+        defects=defects,
+    )
+    table.check()
+    return table
+
+
+def _planetary_row(stage: PlanetaryStage, mesh, phase, direction: int) -> dict:
+    """Table entry of a sun or ring mesh: gear 1 the central member, gear 2 the planet,
+    angle of gear 1 relative to the carrier (PHYSICS.md 5)."""
+    central = mesh.name.split("-", 1)[0]
+    return dict(
+        central=central,
+        gears=(f"{stage.name}.{central}", f"{stage.name}.planet{mesh.planet}"),
+        angles=(
+            (f"{stage.name}.sun", f"{stage.name}.carrier")
+            if central == "sun"
+            else (f"{stage.name}.carrier", f"{stage.name}.ring")
+        ),
+        teeth=(getattr(stage, central).teeth, stage.planet.teeth),
+        offset=(phase.gear_1_offset, phase.gear_2_offset),
+        mean=mesh.mean_stiffness,
+        ratio=mesh.contact_ratio,
+        lam=mesh.end_to_peak,
+        phase=phase.phase,
+        sign=direction,
+        law=LAW_CODES["parabola"],
+        start=0,
+        size=0,
+    )
+
+
+def _parallel_row(stage: ParallelStage, mesh, sign: int) -> dict:
+    """Table entry of a parallel pair: gear 1 the input gear, its absolute rotation as
+    the angle, first teeth in mesh at s = 0.  A helical pair uses the contact-length
+    law over the total contact ratio eps_a + eps_b, a spur pair the parabola."""
+    for member in stage.member_names:
+        teeth = getattr(stage, member).teeth
+        if not (isinstance(teeth, int) and teeth > 0):
+            raise CaseError(
+                f"{stage.name}.{member}.teeth must be a whole number > 0 for the "
+                f"time-varying mesh stiffness (got {teeth!r})"
+            )
+    helical = not stage.spur and stage.overlap_ratio > 0
+    return dict(
+        gears=(f"{stage.name}.input_gear", f"{stage.name}.output_gear"),
+        angles=(f"{stage.name}.input_gear",),
+        teeth=(stage.input_gear.teeth, stage.output_gear.teeth),
+        offset=(0, 0),
+        mean=mesh.mean_stiffness,
+        ratio=mesh.contact_ratio + (stage.overlap_ratio if helical else 0.0),
+        lam=stage.overlap_ratio if helical else mesh.end_to_peak,
+        phase=0.0,
+        sign=sign,
+        law=LAW_CODES["helical" if helical else "parabola"],
+        start=0,
+        size=0,
+    )
+
+
+def _parallel_senses(case: Case, model: Model) -> dict[str, int]:
+    """+1 when a parallel stage's input gear turns with the first planetary stage's
+    sun relative to its carrier in the gearbox's rigid-body rotation, else -1."""
+    stages = [s for s in case.gearbox.stages if isinstance(s, ParallelStage)]
+    if not stages:
+        return {}
+    rigid = rigid_rotation(model)
+    reference = None
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage) and rigid is not None:
+            sun = dof_row(model, f"{stage.name}.sun.theta_z")
+            carrier = dof_row(model, f"{stage.name}.carrier.theta_z")
+            reference = float((sun - carrier) @ rigid)
+            break
+    senses = {}
+    for stage in stages:
+        speed = dof_row(model, f"{stage.name}.input_gear.theta_z")
+        own = float(speed @ rigid) if rigid is not None and speed is not None else 1.0
+        senses[stage.name] = 1 if own * (reference if reference else 1.0) >= 0 else -1
+    return senses
+
+
+def _pack_factors(
+    case: Case, rows: list[dict], defects: tuple[ToothDefect, ...]
+) -> tuple[np.ndarray, np.ndarray]:
+    """One block of per-tooth factors per defective gear, shared by all its meshes."""
+    blocks: dict[str, np.ndarray] = {}
+    for defect in defects:
+        stage = case.gearbox.stage(defect.stage)
+        teeth = stage.gear_teeth(defect.member)
+        block = blocks.setdefault(defect.gear, np.ones(teeth))
+        block[defect.tooth] = defect.factor
+    offsets, packed, position = {}, [], 0
+    for gear, block in blocks.items():
+        offsets[gear] = position
+        packed.append(block)
+        position += len(block)
+    start = np.array([[offsets.get(g, -1) for g in r["gears"]] for r in rows], dtype=np.int32)
+    return np.asfortranarray(start.T.reshape(2, len(rows))), np.concatenate(packed + [np.ones(1)])

@@ -1,0 +1,8 @@
+"""The Fortran kernel: the f2py extension ``_kernel`` and the Python that drives its
+time integration (:mod:`.calls`, :mod:`.newmark`, :mod:`.newmark_support`,
+:mod:`.newmark_rebase`, :mod:`.probes`).
+
+This file imports nothing, so that ``pygear.kernel._kernel`` and
+``pygear.kernel.calls`` (the foreign-function boundary that assembly uses for the
+element matrices) load without the integrator.
+"""

@@ -1,0 +1,1 @@
+"""Figures drawn from analysis results (Matplotlib, Agg backend)."""

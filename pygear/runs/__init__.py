@@ -1,0 +1,2 @@
+"""Running scenes: the scene runner's outputs, checkpoints, batches, sweeps, the Dask
+cluster and progress bars."""

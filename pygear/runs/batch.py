@@ -1,0 +1,416 @@
+"""Batch runs of many cases on Dask, and the ``batch`` and ``sweep`` commands.
+
+``run_batch`` finds every case directory under the given paths and runs every scene
+of every case as one Dask task, writing what ``pygear run`` writes (``<scene>.nc``
+and its figures) into ``<out>/<case>/``.  A scene that fails is recorded with its
+error and the others go on; a scene asking for an analysis this pygear cannot run
+yet is reported as ``unsupported``.  The command-line parsers of ``batch`` and
+``sweep`` live here too (:func:`add_parsers`, :data:`HANDLERS`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..analysis.modal import modal_analysis
+from ..analysis.transient_checks import check_scenes
+from ..assembly.matrices import Model, assemble
+from ..errors import CaseError
+from ..io import atomic_path, write_netcdf
+from ..model.case import FORMULATIONS, Case, Scene, find_case_dir, load_case
+from .cluster import task_files
+from .json_output import json_text
+from .progress import ProgressBar
+
+__all__ = [
+    "HANDLERS",
+    "SCENE_ANALYSES",
+    "SUMMARY_COLUMNS",
+    "add_parsers",
+    "find_case_dirs",
+    "run_batch",
+    "run_scene",
+]
+
+SUMMARY_COLUMNS = (
+    "case",
+    "scene",
+    "analyses",
+    "status",
+    "wall_s",
+    "formulation",
+    "dof_set",
+    "dofs",
+    "lowest_hz",
+    "t_s",
+    "files",
+    "error",
+)
+"""Columns of the batch summary table."""
+
+SUMMARY_NAME = "batch_summary.csv"
+"""File name of the summary table in the batch's output directory."""
+
+
+def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    from .outputs import write_modal_outputs  # the code path of `pygear run`
+
+    modal = modal_analysis(model)
+    with task_files():
+        files = write_modal_outputs(case, scene, model, modal, out, scene.name)
+    frequencies = modal.frequency.values
+    positive = frequencies[frequencies > 0]
+    return {
+        "files": [str(p) for p in files],
+        "lowest_hz": float(positive.min()) if positive.size else math.nan,
+    }
+
+
+def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    from ..analysis.sensitivity import frequency_sensitivity
+
+    sensitivity = frequency_sensitivity(model)
+    with task_files():
+        path = write_netcdf(
+            sensitivity,
+            out / f"{scene.name}_sensitivity.nc",
+            input_hash=case.input_hash(),
+            title=f"Frequency sensitivities of {case.name}",
+        )
+    return {"files": [str(path)]}
+
+
+def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    """The scene's transient as `pygear run` writes it, and its signal analysis."""
+    from ..analysis.transient import transient_summary, write_transient
+    from .outputs import write_run_signals
+
+    with task_files():
+        dataset, files = write_transient(case, scene, out, model=model)
+        if "signal" in scene.analyses:
+            files = [*files, *write_run_signals(case, model, dataset, out, scene.name)]
+    summary = transient_summary(dataset)
+    return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
+
+
+def _after_transient(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+    return {}  # 'signal' runs inside the transient's task, on its dataset
+
+
+SCENE_ANALYSES: dict[str, Callable[[Case, Scene, Model, Path], dict]] = {
+    "modal": _modal_outputs,
+    "sensitivity": _sensitivity_outputs,
+    "transient": _transient_outputs,
+    "signal": _after_transient,
+}
+"""What a batch writes for each analysis a scene may ask for."""
+
+
+def find_case_dirs(paths: Iterable[str | os.PathLike]) -> list[Path]:
+    """Every case directory given or found under the given paths, in order, once.
+
+    A path is a case directory (it holds ``case.py``), a directory searched for case
+    directories at any depth, or a case name under ``cases/``.
+
+    Raises
+    ------
+    CaseError
+        For a path that does not exist, a directory without any case, or two cases
+        with the same directory name (their outputs would collide).
+    """
+    found: list[Path] = []
+    for reference in paths:
+        path = Path(reference)
+        if (path / "case.py").is_file() or path.name == "case.py":
+            found.append(find_case_dir(path))
+        elif path.is_dir():
+            below = sorted(
+                p.parent.resolve()
+                for p in path.rglob("case.py")
+                if not any(part.startswith((".", "__")) for part in p.relative_to(path).parts)
+            )
+            if not below:
+                raise CaseError(f"DIR {str(reference)!r} holds no case directory (no case.py)")
+            found.extend(below)
+        elif not path.exists() and len(path.parts) == 1:
+            found.append(find_case_dir(path))  # a case name; names the places looked in
+        else:
+            raise CaseError(f"DIR {str(reference)!r} does not exist")
+    unique = list(dict.fromkeys(found))
+    names = [p.name for p in unique]
+    for name in names:
+        if names.count(name) > 1:
+            clash = ", ".join(str(p) for p in unique if p.name == name)
+            raise CaseError(f"two cases are named {name!r} ({clash}); their outputs would collide")
+    return unique
+
+
+def run_scene(case_dir: str, scene_name: str, out_dir: str) -> dict:
+    """Run one scene of one case and write its outputs; never raises (a Dask task).
+
+    Returns
+    -------
+    dict
+        One row of the summary table (:data:`SUMMARY_COLUMNS`).
+    """
+    started = time.perf_counter()
+    row: dict = {"case": Path(case_dir).name, "scene": scene_name, "files": [], "error": ""}
+    try:
+        case = load_case(case_dir)
+        scene = case.scene(scene_name)
+        check_scenes(case, [scene], out=out_dir)  # probe targets, memory, disk: before any work
+        case = case.for_scene(scene)  # its parameter changes, as `pygear run` applies them
+        row["analyses"] = ",".join(scene.analyses)
+        model = assemble(case, scene)
+        row.update(formulation=model.formulation, dof_set=model.dof_set, dofs=model.size)
+        unsupported = [a for a in scene.analyses if a not in SCENE_ANALYSES]
+        for analysis in scene.analyses:
+            if analysis in SCENE_ANALYSES:
+                result = SCENE_ANALYSES[analysis](case, scene, model, Path(out_dir))
+                row["files"] = row["files"] + result.pop("files", [])
+                row.update(result)
+        if unsupported:
+            row["status"] = "unsupported"
+            row["error"] = (
+                f"batch runs cannot run {', '.join(map(repr, unsupported))} yet "
+                f"(they run: {', '.join(SCENE_ANALYSES)})"
+            )
+        else:
+            row["status"] = "ok"
+    except Exception as error:  # noqa: BLE001 - one failing scene must not stop the batch
+        row["status"] = "error"
+        row["error"] = str(error) if isinstance(error, CaseError) else repr(error)
+    row["wall_s"] = time.perf_counter() - started
+    return row
+
+
+def run_batch(
+    paths: Sequence[str | os.PathLike],
+    *,
+    out_dir: str | os.PathLike,
+    workers: int,
+    scheduler: str | None = None,
+    progress: bool = True,
+) -> pd.DataFrame:
+    """Run every scene of every case found under ``paths`` in parallel on Dask.
+
+    Parameters
+    ----------
+    paths : sequence of path
+        Case directories, directories holding case directories, or case names.
+    out_dir : path
+        Outputs go to ``out_dir/<case>/``; the summary to ``out_dir/batch_summary.csv``.
+    workers : int
+        Workers of the local cluster (ignored with ``scheduler``).
+    scheduler : str, optional
+        Address of a running Dask scheduler.
+    progress : bool
+        Draw a progress bar on stderr.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case and scene (:data:`SUMMARY_COLUMNS`); ``status`` is ``ok``,
+        ``error`` (with the message in ``error``) or ``unsupported``.  A case whose
+        ``case.py`` cannot be loaded has one row with an empty scene.
+    """
+    from .cluster import dask_client, validate_cluster_options
+
+    validate_cluster_options(workers, scheduler)
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise CaseError(f"--out {str(out)!r} is a file: a batch writes into a directory")
+    rows: list[dict] = []
+    tasks: list[tuple[str, str, str]] = []
+    directories = find_case_dirs(paths)
+    for directory in directories:
+        try:
+            case = load_case(directory)
+        except Exception as error:  # noqa: BLE001 - a broken case.py is one failing case
+            message = str(error) if isinstance(error, CaseError) else repr(error)
+            rows.append({"case": directory.name, "scene": "", "status": "error", "error": message})
+            continue
+        if not case.scenes:
+            rows.append({"case": directory.name, "scene": "", "status": "ok", "error": "no scenes"})
+        for scene in case.scenes:
+            tasks.append((str(directory), scene.name, str(out / directory.name)))
+    bar = ProgressBar("batch", enabled=progress)
+    if tasks:
+        with dask_client(workers=workers, scheduler=scheduler) as client:
+            from distributed import as_completed
+
+            futures = client.map(run_scene, *zip(*tasks), pure=False)
+            owner = {future.key: task for future, task in zip(futures, tasks)}
+            for done, future in enumerate(as_completed(futures, loop=client.loop), start=1):
+                try:
+                    rows.append(future.result())
+                except Exception as error:  # noqa: BLE001 - e.g. a worker that died
+                    case_dir, scene_name, _ = owner[future.key]
+                    rows.append(
+                        {
+                            "case": Path(case_dir).name,
+                            "scene": scene_name,
+                            "status": "error",
+                            "error": f"the task did not finish: {error!r}",
+                        }
+                    )
+                bar(done, len(tasks))
+    case_order = {d.name: i for i, d in enumerate(directories)}
+    scene_order = {(Path(d).name, s): i for i, (d, s, _) in enumerate(tasks)}
+    rows.sort(key=lambda r: (case_order[r["case"]], scene_order.get((r["case"], r["scene"]), -1)))
+    table = pd.DataFrame(rows).reindex(columns=list(SUMMARY_COLUMNS))
+    table["files"] = table["files"].apply(lambda f: f if isinstance(f, list) else [])
+    table["error"] = table["error"].fillna("")
+    out.mkdir(parents=True, exist_ok=True)
+    with atomic_path(out / SUMMARY_NAME) as temporary:
+        table.assign(files=table["files"].apply(" ".join)).to_csv(temporary, index=False)
+    return table
+
+
+# --------------------------------------------------------------------------- commands
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``batch`` and ``sweep`` subcommands to pygear's subparsers."""
+    batch = commands.add_parser(
+        "batch",
+        help="run every scene of every case under DIRs in parallel (Dask)",
+        description="Exit code 0 when every scene ran, 1 when some failed, 2 for bad input.",
+    )
+    batch.add_argument("dirs", metavar="DIR", nargs="+", help="case directories or their parents")
+    batch.add_argument("--out", type=Path, default=Path("out"), help="output root (default: out)")
+    _add_dask_options(batch)
+    batch.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+    sweep = commands.add_parser(
+        "sweep",
+        help="run a scene over a grid of parameter values (Dask), one file per point",
+        description="Each point's file, point_<hash>.nc, is named by the hash of its inputs: "
+        "the case, scene, formulation, parameter values and pygear's Python and Fortran "
+        "sources.  Sweeps may share one --out: a rerun or another sweep reuses every point "
+        "already there, in any order and either layout, and no sweep deletes a file; a "
+        "point with an error record or NaN results runs again, and so does every point "
+        "after the code changes.  Each sweep writes its combined dataset to "
+        "sweep_<hash>.nc and prints its name.  "
+        "Exit code 0 when every point ran, 1 when some failed, 2 for bad input.",
+    )
+    sweep.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    sweep.add_argument(
+        "--param",
+        action="append",
+        required=True,
+        metavar="PATH=VALUES",
+        help="e.g. planetary.sun_mesh.stiffness=logspace(7,10,7) (repeatable: a grid)",
+    )
+    sweep.add_argument("--zip", action="store_true", help="pair the values instead of a grid")
+    sweep.add_argument("--scene", help="scene to run (default: the case's first)")
+    sweep.add_argument("--formulation", choices=FORMULATIONS, help="override the scene's")
+    sweep.add_argument(
+        "--out",
+        type=Path,
+        help="sweep directory, may hold other sweeps (default: out/<case>/sweep_<paths>)",
+    )
+    _add_dask_options(sweep)
+    sweep.add_argument("--cluster", choices=("slurm", "pbs"), help="run on a job queue")
+    sweep.add_argument("--queue", help="job queue (partition)")
+    sweep.add_argument("--walltime", metavar="HH:MM:SS", help="wall time of each job")
+    sweep.add_argument("--memory", metavar="4GB", help="memory of each job (default 4GB)")
+    sweep.add_argument("--cores", type=int, help="cores of each job, one worker each (default 1)")
+    sweep.add_argument("--jobs", type=int, help="jobs to submit (default: enough for --workers)")
+    sweep.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+
+
+def _add_dask_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--workers", type=int, default=2, help="local Dask workers (default 2)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="use a running Dask scheduler")
+
+
+def _batch(args: argparse.Namespace) -> int:
+    table = run_batch(
+        args.dirs,
+        out_dir=args.out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.json,
+    )
+    if args.json:
+        records = json.loads(table.to_json(orient="records"))
+        print(json_text({"out": str(args.out), "runs": records}))
+    else:
+        shown = table.assign(files=table["files"].apply(len)).drop(columns=["analyses"])
+        print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep="-"))
+        counts = table["status"].value_counts().to_dict()
+        print(
+            f"{len(table)} runs: "
+            + ", ".join(f"{n} {status}" for status, n in counts.items())
+            + f"; summary in {Path(args.out) / SUMMARY_NAME}"
+        )
+    return 1 if (table["status"] == "error").any() else 0
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from .sweep import parse_param, run_sweep
+
+    params = [parse_param(text) for text in args.param]
+    case = load_case(args.case)
+    out = args.out or Path("out") / case.name / (
+        "sweep_" + "__".join(path.replace(".", "_") for path, _ in params)
+    )
+    options = {
+        "queue": args.queue,
+        "walltime": args.walltime,
+        "memory": args.memory,
+        "cores": args.cores,
+        "jobs": args.jobs,
+    }
+    result = run_sweep(
+        case,
+        params,
+        zip_params=args.zip,
+        scene=args.scene,
+        formulation=args.formulation,
+        out_dir=out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        cluster=args.cluster,
+        cluster_options=options,
+        progress=not args.json,
+    )
+    failed = int(result.attrs["points_failed"])
+    if args.json:
+        status = result.point_status.values.ravel()
+        errors = result.point_error.values.ravel()
+        print(
+            json_text(
+                {
+                    "case": result.attrs["case"],
+                    "scene": result.attrs["scene"],
+                    "formulation": result.attrs["formulation"],
+                    "parameters": {path: values.tolist() for path, values in params},
+                    "zip": bool(args.zip),
+                    **{
+                        key: int(result.attrs[key])
+                        for key in ("points", "points_computed", "points_reused", "points_failed")
+                    },
+                    "failures": [
+                        {"index": int(i), "error": str(errors[i])}
+                        for i in np.flatnonzero(status == "failed")
+                    ],
+                    "file": result.attrs["path"],
+                }
+            )
+        )
+    return 1 if failed else 0
+
+
+HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {"batch": _batch, "sweep": _sweep}
+"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""

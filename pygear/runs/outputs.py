@@ -1,0 +1,264 @@
+"""Files a scene writes: modal results and figures, signal analyses of a run.
+
+Shared by ``pygear run`` and batch runs, so both write the same files.  A run file
+carries the frequencies its signal analysis names peaks with
+(:func:`analysis_references`), so ``pygear analyze`` reads them back
+(:func:`stored_references`) and never loads, let alone executes, a case.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..analysis.signal import SignalError
+from ..io import write_netcdf
+from ..model.case import Case, Scene
+
+__all__ = [
+    "analysis_references",
+    "stored_references",
+    "write_run_signals",
+    "acceleration_channels",
+    "mesh_frequency",
+    "write_modal_outputs",
+    "write_signal_analysis",
+]
+
+
+def write_modal_outputs(
+    case: Case, scene: Scene | None, model, modal, directory: Path, stem: str
+) -> list[Path]:
+    """Write ``<stem>.nc`` and the modal figures into ``directory``."""
+    from ..plots.modal import plot_modal_energy, plot_mode_shape
+
+    directory.mkdir(parents=True, exist_ok=True)
+    written = [
+        write_netcdf(
+            modal,
+            directory / f"{stem}.nc",
+            input_hash=case.input_hash(),
+            title=f"Modal analysis of {case.name} ({model.formulation})",
+        )
+    ]
+    energy = directory / f"{stem}_energy.png"
+    plot_modal_energy(modal, energy)
+    written.append(energy)
+    rotational = [
+        m
+        for m, (c, i) in enumerate(zip(modal.mode_class.values, modal.class_index.values))
+        if c == "rotational" and i == 2
+    ]
+    if rotational and case.gearbox.stages[0].kind == "planetary":
+        shape = directory / f"{stem}_mode_shape.png"
+        plot_mode_shape(case, model, modal, rotational[0], shape)
+        written.append(shape)
+    return written
+
+
+def _stage_mesh_frequencies(case: Case, run) -> dict[str, tuple[int, float]]:
+    """``{stage: (teeth, mesh frequency [Hz])}`` at a run's equilibrium speeds, for the
+    stages with tooth numbers and a finite, positive frequency.
+
+    A planetary stage meshes at Z_r |n_c - n_r| / 60, a parallel pair at Z_1 |n_1| / 60.
+    """
+    if "equilibrium_speed" not in run:
+        return {}
+    speeds = dict(zip(run.member.values.tolist(), run.equilibrium_speed.values.tolist()))
+    stages = case.gearbox.stages
+    found = {}
+    for stage in stages:
+        prefix = f"{stage.name}." if len(stages) > 1 else ""
+        kind = getattr(stage, "kind", "")
+        if kind == "planetary" and stage.ring.teeth:
+            relative = speeds.get(prefix + "carrier", np.nan) - speeds.get(prefix + "ring", 0.0)
+            found[stage.name] = (stage.ring.teeth, stage.ring.teeth * abs(relative) / 60.0)
+        elif kind == "parallel" and stage.input_gear.teeth:
+            speed = speeds.get(prefix + "input_gear", np.nan)
+            found[stage.name] = (stage.input_gear.teeth, stage.input_gear.teeth * abs(speed) / 60.0)
+    return {k: (z, f) for k, (z, f) in found.items() if np.isfinite(f) and f > 0}
+
+
+def _as_mesh_frequency(frequencies: dict[str, float], stage_count: int, fallback=None):
+    """One stage: a number; several: ``{stage: frequency}``; none: ``fallback``."""
+    if not frequencies:
+        return fallback
+    if stage_count == 1:
+        return next(iter(frequencies.values()))
+    return frequencies
+
+
+def mesh_frequency(case: Case | None, run) -> float | dict[str, float] | None:
+    """Mesh frequencies of a run at its equilibrium speeds (mean over its last window).
+
+    One stage: a number; several: ``{stage: frequency}`` for the stages with tooth
+    numbers.  Without a case, the run's ``mesh_frequency_hz`` attribute.
+    """
+    fallback = run.attrs.get("mesh_frequency_hz")
+    if case is None:
+        return fallback
+    found = _stage_mesh_frequencies(case, run)
+    return _as_mesh_frequency(
+        {k: f for k, (_, f) in found.items()}, len(case.gearbox.stages), fallback
+    )
+
+
+def analysis_references(case: Case, model, run: xr.Dataset) -> xr.Dataset:
+    """The frequencies a run's signal analysis names peaks with, to store in its file.
+
+    ``natural_frequency`` and ``mode_class`` over ``mode``: the modes of the run's own
+    model (mean mesh stiffness); ``mesh_frequency`` and ``mesh_teeth`` over
+    ``mesh_stage``: each stage's mesh frequency at the run's equilibrium speeds and
+    the tooth number it counts (:func:`mesh_frequency`).
+    """
+    from ..analysis.modal import modal_analysis
+
+    modal = modal_analysis(model)
+    stages = _stage_mesh_frequencies(case, run)
+    return xr.Dataset(
+        {
+            "natural_frequency": (
+                ("mode",),
+                np.asarray(modal.frequency.values, dtype=np.float64),
+                {
+                    "units": "Hz",
+                    "long_name": "natural frequency of the run's model (mean mesh stiffness)",
+                },
+            ),
+            "mesh_frequency": (
+                ("mesh_stage",),
+                np.array([f for _, f in stages.values()], dtype=np.float64),
+                {
+                    "units": "Hz",
+                    "long_name": "mesh frequency at the equilibrium speeds: Z_r |n_c - n_r| "
+                    "/ 60 for a planetary stage, Z_1 |n_1| / 60 for a parallel pair",
+                    "gearbox_stages": len(case.gearbox.stages),
+                },
+            ),
+            "mesh_teeth": (
+                ("mesh_stage",),
+                np.array([z for z, _ in stages.values()], dtype=np.int32),
+                {"units": "1", "long_name": "tooth number Z of the mesh frequency"},
+            ),
+        },
+        coords={
+            "mode": (("mode",), modal.mode.values, {"units": "1", "long_name": "mode number"}),
+            "mode_class": (
+                ("mode",),
+                np.asarray(modal.mode_class.values).astype(str),
+                {"units": "1", "long_name": "mode class"},
+            ),
+            "mesh_stage": (
+                ("mesh_stage",),
+                list(stages),
+                {"units": "1", "long_name": "gear stage of the mesh frequency"},
+            ),
+        },
+    )
+
+
+def stored_references(run: xr.Dataset, source: str | Path = "RUN.nc"):
+    """The natural frequencies and mesh frequency a run file carries.
+
+    Returns
+    -------
+    (xarray.Dataset or None, float or dict or None)
+        ``frequency`` and ``mode_class`` of the modes, and the mesh frequency (a
+        number for one stage, ``{stage: Hz}`` for several).  A file that names no
+        case (not a pygear run) gives no modes and its ``mesh_frequency_hz``.
+
+    Raises
+    ------
+    SignalError
+        A pygear run file written before the frequencies were stored: rerun it.
+    """
+    if "natural_frequency" not in run or "mesh_frequency" not in run:
+        if "case" in run.attrs:
+            raise SignalError(
+                f"RUN.nc {str(source)!r} holds no natural_frequency and mesh_frequency "
+                "(written by an older pygear); rerun its scene with `pygear run` to "
+                "analyse it with named peaks"
+            )
+        return None, run.attrs.get("mesh_frequency_hz")
+    natural = xr.Dataset(
+        {"frequency": run.natural_frequency, "mode_class": run.mode_class.astype(str)}
+    )
+    frequencies = {
+        str(stage): float(value)
+        for stage, value in zip(run.mesh_stage.values, run.mesh_frequency.values)
+    }
+    stage_count = int(run.mesh_frequency.attrs.get("gearbox_stages", len(frequencies)))
+    return natural, _as_mesh_frequency(frequencies, stage_count, run.attrs.get("mesh_frequency_hz"))
+
+
+def write_signal_analysis(
+    run,
+    stem: Path,
+    *,
+    channel=None,
+    band=(5000.0, 10000.0),
+    after=1.0,
+    natural=None,
+    mesh_frequency=None,
+):
+    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and ``.png``."""
+    from ..analysis.analyze import analyze_channel
+    from ..plots.signal import plot_run_analysis
+
+    analysis = analyze_channel(
+        run,
+        channel,
+        band=band,
+        after=after,
+        natural_frequencies=natural,
+        mesh_frequency=mesh_frequency,
+    )
+    base = stem.with_name(f"{stem.name}_{analysis.channel}")
+    # suffixes appended, never substituted: a channel name with a dot keeps its own files
+    spectra = analysis.spectra.copy()
+    if isinstance(mesh_frequency, dict):
+        spectra.attrs["mesh_frequency_hz"] = list(mesh_frequency.values())
+        spectra.attrs["mesh_frequency_stage"] = list(mesh_frequency)
+    else:
+        spectra.attrs["mesh_frequency_hz"] = mesh_frequency or float("nan")
+    spectra.attrs["strongest_peaks"] = "; ".join(
+        f"{row.frequency_hz:.1f} Hz {row.identification}"
+        for row in analysis.peaks["spectrum"].head(5).itertuples()
+    )
+    path = write_netcdf(
+        spectra, base.with_name(f"{base.name}.nc"), title=f"Spectra of {analysis.channel}"
+    )
+    figure = base.with_name(f"{base.name}.png")
+    plot_run_analysis(analysis, figure)
+    return analysis, [path, figure]
+
+
+def acceleration_channels(dataset) -> list[str]:
+    return [
+        name
+        for name, v in dataset.data_vars.items()
+        if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
+    ]
+
+
+def write_run_signals(case: Case, model, dataset, directory: Path, stem: str) -> list[Path]:
+    """Signal analysis of every acceleration channel of a run, after the start-up."""
+    from ..model.case import SIGNAL_AFTER
+
+    if "natural_frequency" not in dataset:  # a run not from write_transient
+        dataset = dataset.merge(analysis_references(case, model, dataset))
+    natural, mesh = stored_references(dataset)
+    files: list[Path] = []
+    for channel in acceleration_channels(dataset):
+        _, written = write_signal_analysis(
+            dataset,
+            directory / stem,
+            channel=channel,
+            after=SIGNAL_AFTER,
+            natural=natural,
+            mesh_frequency=mesh,
+        )
+        files += written
+    return files
