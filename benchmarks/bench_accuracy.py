@@ -24,8 +24,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from timing import median_seconds  # noqa: E402
 
 from pygear import load_case  # noqa: E402
-from pygear.analysis.accuracy import accuracy_study, load_accuracy_study  # noqa: E402
+from pygear.analysis.accuracy import load_accuracy_study  # noqa: E402
 from pygear.analysis.transient import run_transient  # noqa: E402
+from pygear.runs.accuracy import accuracy_study  # noqa: E402
 
 
 def direct_pruning(repeats: int = 5) -> dict[str, float]:

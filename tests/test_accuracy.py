@@ -14,13 +14,13 @@ from pygear import Case, CaseError, Gearbox, Probe, RayleighDamping, Scene, Torq
 from pygear.analysis.accuracy import (
     AccuracyStudy,
     Fidelity,
-    accuracy_study,
     metric_errors,
     metric_scales,
     observed_orders,
     run_setting,
 )
 from pygear.cli.accuracy import parse_tolerance, write_accuracy
+from pygear.runs.accuracy import accuracy_study
 
 
 def test_observed_order_of_a_known_sequence():

@@ -22,9 +22,9 @@ import pytest
 import xarray as xr
 
 from pygear import load_case
-from pygear.analysis.transient import write_transient
 from pygear.cli import main
 from pygear.io import write_netcdf
+from pygear.runs.transient_outputs import write_transient
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 SCENE = "long"
@@ -155,7 +155,7 @@ KILL_IN_CHECKPOINT = """
 import os, signal, sys
 import numpy as np
 from pygear import load_case
-from pygear.analysis.transient import write_transient
+from pygear.runs.transient_outputs import write_transient
 
 saves = []
 real_savez = np.savez

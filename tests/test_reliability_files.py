@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.transient import write_transient
 from pygear.cli import main
 from pygear.kernel.newmark import TransientError
+from pygear.runs.transient_outputs import write_transient
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 RING_TEETH = 96  # Z_r of the study case (Yang, Jiang & Han 2016, Table 1)

@@ -110,8 +110,8 @@ def test_probe_name_refused_on_the_command_line_before_any_work(tmp_path, capsys
 
 def test_every_name_a_run_file_takes_is_refused_as_a_probe_name(study_case, tmp_path):
     """A run file's own names are the taken ones, whatever the file gains later."""
-    from pygear.analysis.transient import write_transient
     from pygear.model.transient_settings import RUN_VARIABLES
+    from pygear.runs.transient_outputs import write_transient
 
     scene = _runup(study_case, duration=0.01, mean_window=0.01, full_state=True)
     dataset, _ = write_transient(study_case, scene, tmp_path, figure=False)
@@ -353,7 +353,7 @@ def test_transient_larger_than_memory_is_refused_with_the_estimate(study_case, m
 
 def test_transient_larger_than_the_disk_is_refused(study_case, tmp_path, monkeypatch):
     from pygear import resources
-    from pygear.analysis.transient import write_transient
+    from pygear.runs.transient_outputs import write_transient
 
     monkeypatch.setattr(resources, "available_disk", lambda path: 1e6)
     scene = _runup(study_case, duration=0.5, mean_window=0.1)  # 10 x 20001 samples: 1.6 MB

@@ -1,6 +1,6 @@
 """What accuracy costs in time: a ladder of fidelities and time steps for one scene.
 
-:func:`accuracy_study` runs a transient scene at every rung of a ladder of
+:func:`pygear.runs.accuracy.accuracy_study` runs a transient scene at every rung of a ladder of
 fidelities (DOF set torsional / planar / pygear's pick / spatial, constant or
 time-varying mesh stiffness, the equivalent-load modes) and formulations, each at
 time steps halving from coarse to fine.  Each setting is timed (median of repeats)
@@ -14,7 +14,10 @@ time-discretisation error.  A metric whose reference is not converged to the
 tolerance (its two finest steps disagree by more, or the fixed-point iteration and the
 reference's solver disagree at the finest step) is reported but not judged.  The
 recommendation is the cheapest setting whose every judged metric meets the
-tolerance.  Figures live in :mod:`pygear.plots.accuracy`.
+tolerance.  This module holds the ladder, one column of runs (:func:`run_column`)
+and the grid of results (:func:`accuracy_grid`); scheduling the columns (in this
+process or on a Dask cluster) is the runner's.  Figures live in
+:mod:`pygear.plots.accuracy`.
 """
 
 from __future__ import annotations
@@ -23,7 +26,6 @@ import dataclasses
 import math
 import statistics
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,13 +40,14 @@ from .accuracy_report import accuracy_table_text, grid_dataset, recommendation
 __all__ = [
     "AccuracyStudy",
     "Fidelity",
-    "accuracy_study",
+    "accuracy_grid",
     "accuracy_table_text",
     "fidelity_ladder",
     "load_accuracy_study",
     "metric_errors",
     "observed_orders",
     "recommendation",
+    "run_column",
     "run_setting",
 ]
 
@@ -266,7 +269,7 @@ def run_setting(case: Case, scene: Scene, formulation: str, repeats: int, after:
     }
 
 
-def _column_task(args: tuple) -> list[dict]:
+def run_column(args: tuple) -> list[dict]:
     """Every time step of one (formulation, fidelity): a unit of work for Dask."""
     case, scene, fidelity, formulation, steps, study, rate = args
     return [
@@ -393,99 +396,7 @@ def observed_orders(series: np.ndarray, scale: float) -> tuple[float, float]:
     return order, estimate / scale
 
 
-# --------------------------------------------------------------------------- the study
-
-
-def accuracy_study(
-    case: Case,
-    scene: Scene,
-    study: AccuracyStudy | None = None,
-    *,
-    workers: int = 1,
-    progress: Callable[[int, int], None] | None = None,
-) -> xr.Dataset:
-    """Run the ladder of ``scene`` and return the grid (formulation x fidelity x dt x metric).
-
-    Parameters
-    ----------
-    case, scene : Case, Scene
-        The case (as the scene sees it) and a scene with a ``transient`` analysis.
-    study : AccuracyStudy, optional
-        Settings (default :class:`AccuracyStudy()`).
-    workers : int
-        1 runs everything in this process; more run the (formulation, fidelity)
-        columns on a local Dask cluster of that many single-threaded workers.
-    progress : callable, optional
-        ``progress(done, total)`` after every column.
-
-    Raises
-    ------
-    CaseError
-        A bad setting, or a scene without transient settings.
-    """
-    study = study or AccuracyStudy()
-    study.validate()
-    if scene.transient is None:
-        raise CaseError(f"--scene {scene.name!r} has no transient settings to study")
-    case = case.for_scene(scene)
-    base = scene.transient
-    coarsest = study.coarsest_time_step or 8 * base.time_step
-    steps = [coarsest / 2**k for k in range(study.levels)]
-    rate = study.sample_rate or 1.0 / coarsest
-    formulations = study.formulations or tuple(
-        f for f in FORMULATIONS if f != "lin-parker" or len(case.gearbox.stages) == 1
-    )
-    ladder = fidelity_ladder(case, scene, study)
-    duration = study.duration or base.duration
-    window = study.mean_window or base.mean_window
-    if window >= duration:
-        raise CaseError(f"accuracy.mean_window {window:g} s must be shorter than {duration:g} s")
-    ladder[-1].scene(scene, steps[-1], study, rate).validate("accuracy")  # refuse early
-    tasks = [(case, scene, fid, f, steps, study, rate) for f in formulations for fid in ladder]
-    started = time.perf_counter()
-    columns = _run_columns(tasks, workers, progress)
-    wall_total = time.perf_counter() - started
-    results = {(t[3], t[2]): column for t, column in zip(tasks, columns)}
-    dataset = _grid(case, scene, study, formulations, ladder, steps, results)
-    dataset.attrs.update(
-        {
-            "duration": duration,
-            "mean_window": window,
-            "sample_rate": rate,
-            "study_wall_s": wall_total,
-            "workers": workers,
-            "study_note": (
-                f"every run lasts {duration:g} s (the scene's {base.duration:g} s shortened "
-                f"for the study), equilibrium values and mesh-force statistics over the last "
-                f"{window:g} s, spectra after {study.signal_after:g} s, all sampled at "
-                f"{rate:g} Hz"
-            ),
-        }
-    )
-    return dataset
-
-
-def _run_columns(tasks: list, workers: int, progress) -> list[list[dict]]:
-    if workers <= 1:
-        columns = []
-        for done, task in enumerate(tasks, start=1):
-            columns.append(_column_task(task))
-            if progress is not None:
-                progress(done, len(tasks))
-        return columns
-    from ..runs.cluster import dask_client
-
-    with dask_client(workers=workers) as client:
-        futures = client.map(_column_task, tasks, pure=False)
-        from distributed import as_completed
-
-        for done, _ in enumerate(as_completed(futures, loop=client.loop), start=1):
-            if progress is not None:
-                progress(done, len(tasks))
-        return client.gather(futures)
-
-
-def _grid(case, scene, study, formulations, ladder, steps, results) -> xr.Dataset:
+def accuracy_grid(case, scene, study, formulations, ladder, steps, results) -> xr.Dataset:
     """The results as a Dataset: values, errors, orders, recommendation."""
     shape = (len(formulations), len(ladder), len(steps))
     wall = np.full(shape, np.nan)

@@ -9,8 +9,12 @@ Extra dimensions (channels, DOFs, ...) are allowed: each series along
 FFTs run through FFTW (pyFFTW).  Plans are built once per
 ``(length, kind, threads, planner_effort)`` and kept in a small
 least-recently-used cache; FFTW wisdom is kept in-process between plans.
-Peak picking and identification live in :mod:`pygear.analysis.peaks` and are
-re-exported here as :func:`find_peaks` and :func:`peak_table_text`.
+Peak picking and identification live in :mod:`pygear.analysis.peaks` (which imports
+this module, never the reverse).
+
+This module is longer than 600 lines because the spectra, envelopes and order
+analysis share one FFTW plan cache and one record preparation (checks of the time
+coordinate and units); splitting the cache off is the next step if it grows.
 """
 
 from __future__ import annotations
@@ -664,12 +668,3 @@ def _speed_at(speed_rpm: Any, full_time: np.ndarray, time: np.ndarray) -> np.nda
     if not np.all(np.isfinite(speed)) or np.any(speed <= 0.0):
         raise SignalError("speed_rpm: must be finite and > 0 rpm over the analysed record")
     return speed
-
-
-def __getattr__(name: str) -> Any:
-    """Re-export :mod:`pygear.analysis.peaks` lazily (avoids an import cycle)."""
-    if name in ("find_peaks", "peak_table_text"):
-        from . import peaks
-
-        return getattr(peaks, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

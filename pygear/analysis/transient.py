@@ -4,8 +4,7 @@
 a :class:`~pygear.kernel.newmark.BandedNewmark` integrator with its laws, meshes and
 probes; :func:`run_transient` runs it and returns an ``xarray.Dataset`` (one
 variable per probe over ``time``, the equilibrium speeds, t_s and every setting as
-attributes); :func:`write_transient` writes it as NetCDF (atomically) with the
-speed figure beside it.
+attributes).  Writing it to files is :func:`pygear.runs.transient_outputs.write_transient`.
 """
 
 from __future__ import annotations
@@ -13,11 +12,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -33,7 +30,6 @@ from ..kernel.newmark import (
     MeshTerms,
     RunResult,
     TransientError,
-    TransientInterrupted,
 )
 from ..kernel.probes import RPM_PER_RAD_S, compile_probes, state_probes
 from ..model.case import Case, Scene
@@ -41,7 +37,6 @@ from ..model.components import PlanetaryStage
 from ..model.transient_settings import TorqueLaw, Transient
 from .transient_checks import (
     check_static_deflection,
-    check_transient_disk,
     check_transient_memory,
     peak_torque,
     with_soft_mesh_cause,
@@ -55,7 +50,6 @@ __all__ = [
     "static_mesh_deflections",
     "run_transient",
     "transient_problem",
-    "write_transient",
 ]
 
 
@@ -473,103 +467,6 @@ def _first_ring_teeth(case: Case) -> int | None:
         if isinstance(stage, PlanetaryStage):
             return stage.ring.teeth
     return None
-
-
-def write_transient(
-    case: Case,
-    scene: Scene,
-    directory: str | os.PathLike,
-    *,
-    formulation: str | None = None,
-    progress: Callable[[int, int], None] | None = None,
-    figure: bool = True,
-    model: Model | None = None,
-    checkpoint: str | os.PathLike | None = None,
-    checkpoint_every: float = 60.0,
-    resume: str | os.PathLike | None = None,
-) -> tuple[xr.Dataset, list[Path]]:
-    """Run the scene's transient and write ``<scene>.nc`` (and ``<scene>_speeds.png``).
-
-    The file is written under a temporary name and renamed when complete; a run
-    that fails or is interrupted writes nothing (but its checkpoint, when asked).
-    The file carries the frequencies ``pygear analyze`` names peaks with
-    (:func:`pygear.runs.outputs.analysis_references`).  A checkpoint holds the finished
-    run until the result is written, and is removed then: Ctrl-C or SIGTERM while
-    writing removes the temporary file and keeps the checkpoint, from which a resumed
-    run writes the result without integrating again.
-
-    Raises
-    ------
-    TransientInterrupted
-        Ctrl-C or SIGTERM, during the run or while its files are written.
-    """
-    from ..io import WriteInterrupted, signals_interrupt, write_netcdf
-    from ..runs.outputs import analysis_references
-
-    directory = Path(directory)
-    stage = "setting up the run"
-    path = None
-    with signals_interrupt():  # a signal while writing raises, so temporaries are removed
-        try:
-            problem = transient_problem(case, scene, formulation=formulation, model=model)
-            check_transient_disk(
-                problem.settings, len(problem.probes), directory, f"scenes.{scene.name}.transient"
-            )
-            dataset = run_transient(
-                case,
-                scene,
-                progress=progress,
-                problem=problem,
-                checkpoint=checkpoint,
-                checkpoint_every=checkpoint_every,
-                resume=resume,
-            )
-            stage = "writing the result"
-            dataset = dataset.merge(analysis_references(case, problem.model, dataset))
-            path = write_netcdf(
-                dataset,
-                directory / f"{scene.name}.nc",
-                title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
-                input_hash=case.input_hash(),
-            )
-            written = [path]
-            if figure and any(
-                v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()
-            ):
-                written.append(_write_speed_figure(dataset, directory / f"{scene.name}_speeds.png"))
-        except WriteInterrupted as interrupt:
-            raise TransientInterrupted(
-                _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
-            ) from None
-    if checkpoint is not None:
-        Path(checkpoint).unlink(missing_ok=True)
-    return dataset, written
-
-
-def _write_speed_figure(dataset: xr.Dataset, target: Path) -> Path:
-    from ..io import atomic_path
-    from ..plots.transient import plot_speeds
-
-    with atomic_path(target) as temporary:
-        plot_speeds([dataset], temporary, format="png")
-    return target
-
-
-def _interrupted_writing(interrupt, stage: str, path: Path | None, checkpoint) -> str:
-    """One line on what a signal outside the integration left behind."""
-    name = signal.Signals(interrupt.signal_number).name
-    if stage != "writing the result":
-        return f"interrupted by {name} while {stage}; no result file written"
-    if path is not None:
-        return f"interrupted by {name} after writing {path}; its figure was not written"
-    if checkpoint is not None:
-        kept = (
-            f"the finished run is kept in {checkpoint}: `pygear run --resume` writes the "
-            "result from it without running again"
-        )
-    else:
-        kept = "the run is lost (no checkpoint: --checkpoint-every or --resume keeps one)"
-    return f"interrupted by {name} while writing the result; {kept}; no result file written"
 
 
 def transient_summary(dataset: xr.Dataset) -> dict:

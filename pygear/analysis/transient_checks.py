@@ -3,29 +3,27 @@
 What the settings alone cannot tell needs the assembled model: a mesh so soft that its
 static deflection under the drive torque already exceeds the run's deflection limit
 (the run would stop as "diverged" for no numerical reason), and a record larger than
-the machine's memory or disk.  :func:`check_scenes` runs every check of every scene a
-command will run, so a bad later scene is refused before the first one starts.
+the machine's memory or disk.  :func:`pygear.runs.scene_checks.check_scenes` runs
+every check of every scene a command will run, so a bad later scene is refused before
+the first one starts.
 """
 
 from __future__ import annotations
 
 import os
 import re
-from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 
-from ..assembly.matrices import Model, assemble
+from ..assembly.matrices import Model
 from ..errors import CaseError
 from ..kernel.newmark_support import TransientError
-from ..model.case import Case, Scene
 from ..model.transient_settings import TorqueLaw, Transient
 from ..resources import FLOAT_BYTES, require_disk, require_memory
 
 __all__ = [
+    "FOOTPRINT_HINT",
     "SOFT_MESH_SHARE",
-    "check_scenes",
     "check_static_deflection",
     "check_transient_disk",
     "check_transient_memory",
@@ -142,13 +140,14 @@ def transient_footprint(settings: Transient, channels: int) -> tuple[float, floa
     return 2.0 * record, float(record + samples * FLOAT_BYTES), what
 
 
-_HINT = "shorten duration, lower sample_rate or keep fewer probes"
+FOOTPRINT_HINT = "shorten duration, lower sample_rate or keep fewer probes"
+"""What to change when a record does not fit in memory or on disk."""
 
 
 def check_transient_memory(settings: Transient, channels: int, path: str) -> None:
     """Refuse a run whose record does not fit in the memory available."""
     memory, _, what = transient_footprint(settings, channels)
-    require_memory(f"{path}.duration", memory, f"{what}, held twice", _HINT)
+    require_memory(f"{path}.duration", memory, f"{what}, held twice", FOOTPRINT_HINT)
 
 
 def check_transient_disk(
@@ -156,45 +155,4 @@ def check_transient_disk(
 ) -> None:
     """Refuse a run whose result file does not fit on the disk of ``directory``."""
     _, disk, what = transient_footprint(settings, channels)
-    require_disk(f"{path}.duration", disk, directory, what, _HINT)
-
-
-def check_scenes(
-    case: Case,
-    scenes: Sequence[Scene],
-    *,
-    formulation: str | None = None,
-    out: str | os.PathLike | None = None,
-) -> None:
-    """Every check of every scene that needs the assembled model, before any runs.
-
-    Each scene's model is assembled and each transient set up (probe targets, members,
-    contact signs, static deflections, memory); the result files of all transient
-    scenes together must fit on the disk of ``out``.
-
-    Raises
-    ------
-    CaseError
-        Naming the scene's parameter and the rule, for the first scene that fails.
-    """
-    from .transient import transient_problem
-
-    files, counted = 0.0, []
-    for scene in scenes:
-        scene_case = case.for_scene(scene)
-        model = assemble(scene_case, scene, formulation=formulation)
-        if "transient" not in scene.analyses or scene.transient is None:
-            continue
-        problem = transient_problem(scene_case, scene, formulation=formulation, model=model)
-        _, disk, what = transient_footprint(problem.settings, len(problem.probes))
-        files += disk
-        counted.append(f"{scene.name}: {what}")
-    if out is not None and files:
-        first = next(s for s in scenes if "transient" in s.analyses and s.transient is not None)
-        require_disk(
-            f"scenes.{first.name}.transient.duration" if len(counted) == 1 else "scenes",
-            files,
-            Path(out),
-            "; ".join(counted) if len(counted) < 4 else f"{len(counted)} transient scenes",
-            _HINT if len(counted) == 1 else f"run fewer scenes (--scene) or {_HINT}",
-        )
+    require_disk(f"{path}.duration", disk, directory, what, FOOTPRINT_HINT)

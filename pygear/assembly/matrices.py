@@ -4,6 +4,10 @@ The steps are the paper's (PHYSICS.md 4): number the DOFs node by node, add ever
 element at its DOFs, then apply the constraints through a reduction matrix T
 (q_full = T q): the housing and every DOF outside the scene's DOF set have no
 column; a planet's revolution phi shares the carrier's theta_z column.
+
+This module is longer than 600 lines because the element builder places every element
+kind of both stage types against one DOF map; the DOF-row helpers and the contact table
+already live beside it (:mod:`.dof_rows`, :mod:`.contact_table`).
 """
 
 from __future__ import annotations

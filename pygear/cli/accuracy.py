@@ -1,6 +1,6 @@
 """``pygear accuracy CASE [--scene NAME] [--tolerance 1%]``: the accuracy-cost study.
 
-Runs :func:`pygear.analysis.accuracy.accuracy_study` and writes ``accuracy_<scene>.nc`` (the
+Runs :func:`pygear.runs.accuracy.accuracy_study` and writes ``accuracy_<scene>.nc`` (the
 whole grid), ``accuracy_<scene>.txt`` (the table that is also printed) and one Pareto
 plot per formulation, ``accuracy_<scene>_<formulation>.png``.
 """
@@ -79,13 +79,9 @@ def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
 
 
 def _accuracy(args: argparse.Namespace) -> int:
-    from ..analysis.accuracy import (
-        AccuracyStudy,
-        accuracy_study,
-        accuracy_table_text,
-        load_accuracy_study,
-    )
+    from ..analysis.accuracy import AccuracyStudy, accuracy_table_text, load_accuracy_study
     from ..model.case import load_case
+    from ..runs.accuracy import accuracy_study
     from ..runs.progress import ProgressBar
 
     tolerance = parse_tolerance(args.tolerance)

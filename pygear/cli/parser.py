@@ -12,7 +12,6 @@ import numpy as np
 from ..analysis.modal import modal_analysis
 from ..analysis.signal import SignalError
 from ..analysis.transient import runup_table_text, transient_summary
-from ..analysis.transient_checks import check_scenes
 from ..assembly.matrices import assemble
 from ..errors import CaseError
 from ..io import write_netcdf
@@ -27,6 +26,7 @@ from ..runs.outputs import (
     write_signal_analysis,
 )
 from ..runs.progress import ProgressBar
+from ..runs.scene_checks import check_scenes
 from .accuracy import HANDLERS as ACCURACY_HANDLERS
 from .accuracy import add_parser as add_accuracy_parser
 
@@ -437,7 +437,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):
     """One transient scene: run it with a progress bar and write ``<scene>.nc``."""
-    from ..analysis.transient import write_transient
+    from ..runs.transient_outputs import write_transient
 
     progress = ProgressBar(f"{scene.name}", enabled=not args.json)
     checkpoint = out / f"{scene.name}.checkpoint.npz"

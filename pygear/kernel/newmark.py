@@ -9,6 +9,10 @@ cleanly between chunks on Ctrl-C, writes checkpoints, and turns error codes into
 :class:`TransientError` messages naming the time, the DOF or mesh and the likely
 cause.  Nothing here knows about gearboxes: :mod:`pygear.analysis.transient` builds the
 inputs from a case.
+
+This module is longer than 600 lines because the chunked run loop, its checkpoints
+and its interrupt handling share the integrator's state; the argument packing and
+error decoding already live in :mod:`pygear.kernel.newmark_support`.
 """
 
 from __future__ import annotations

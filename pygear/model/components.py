@@ -5,6 +5,9 @@ parameters whose name says so are in degrees (``pressure_angle_deg``).  Nothing 
 checked when a component is built: :func:`validate` walks a whole gearbox and names
 the first parameter that breaks a rule by its full path (``planetary.sun.mass``),
 before any work starts.
+
+This module is longer than 600 lines because each component keeps its validation
+rules beside its fields, so a parameter and the rule that names it are read together.
 """
 
 from __future__ import annotations

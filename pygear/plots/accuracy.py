@@ -38,7 +38,7 @@ def plot_pareto(
     Parameters
     ----------
     ds : xarray.Dataset
-        From :func:`pygear.analysis.accuracy.accuracy_study`.
+        From :func:`pygear.runs.accuracy.accuracy_study`.
     path : path-like
         Target image (format from the suffix).
     formulation : str, optional

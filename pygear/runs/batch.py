@@ -22,7 +22,6 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.modal import modal_analysis
-from ..analysis.transient_checks import check_scenes
 from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
 from ..io import atomic_path, write_netcdf
@@ -30,6 +29,7 @@ from ..model.case import FORMULATIONS, Case, Scene, find_case_dir, load_case
 from .cluster import task_files
 from .json_output import json_text
 from .progress import ProgressBar
+from .scene_checks import check_scenes
 
 __all__ = [
     "HANDLERS",
@@ -91,8 +91,9 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> d
 
 def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
     """The scene's transient as `pygear run` writes it, and its signal analysis."""
-    from ..analysis.transient import transient_summary, write_transient
+    from ..analysis.transient import transient_summary
     from .outputs import write_run_signals
+    from .transient_outputs import write_transient
 
     with task_files():
         dataset, files = write_transient(case, scene, out, model=model)

@@ -1,0 +1,57 @@
+"""Checks of every scene of a run before the first one starts."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..analysis.transient import transient_problem
+from ..analysis.transient_checks import FOOTPRINT_HINT, transient_footprint
+from ..assembly.matrices import assemble
+from ..model.case import Case, Scene
+from ..resources import require_disk
+
+__all__ = ["check_scenes"]
+
+
+def check_scenes(
+    case: Case,
+    scenes: Sequence[Scene],
+    *,
+    formulation: str | None = None,
+    out: str | os.PathLike | None = None,
+) -> None:
+    """Every check of every scene that needs the assembled model, before any runs.
+
+    Each scene's model is assembled and each transient set up (probe targets, members,
+    contact signs, static deflections, memory); the result files of all transient
+    scenes together must fit on the disk of ``out``.
+
+    Raises
+    ------
+    CaseError
+        Naming the scene's parameter and the rule, for the first scene that fails.
+    """
+    files, counted = 0.0, []
+    for scene in scenes:
+        scene_case = case.for_scene(scene)
+        model = assemble(scene_case, scene, formulation=formulation)
+        if "transient" not in scene.analyses or scene.transient is None:
+            continue
+        problem = transient_problem(scene_case, scene, formulation=formulation, model=model)
+        _, disk, what = transient_footprint(problem.settings, len(problem.probes))
+        files += disk
+        counted.append(f"{scene.name}: {what}")
+    if out is not None and files:
+        hint = FOOTPRINT_HINT
+        if len(counted) > 1:
+            hint = f"run fewer scenes (--scene) or {FOOTPRINT_HINT}"
+        first = next(s for s in scenes if "transient" in s.analyses and s.transient is not None)
+        require_disk(
+            f"scenes.{first.name}.transient.duration" if len(counted) == 1 else "scenes",
+            files,
+            Path(out),
+            "; ".join(counted) if len(counted) < 4 else f"{len(counted)} transient scenes",
+            hint,
+        )

@@ -1,0 +1,113 @@
+"""The files of a transient scene: ``<scene>.nc`` written atomically, with the speed
+figure beside it, and what a signal while writing leaves behind."""
+
+from __future__ import annotations
+
+import os
+import signal
+from collections.abc import Callable
+from pathlib import Path
+
+import xarray as xr
+
+from ..analysis.transient import run_transient, transient_problem
+from ..analysis.transient_checks import check_transient_disk
+from ..assembly.matrices import Model
+from ..io import WriteInterrupted, atomic_path, signals_interrupt, write_netcdf
+from ..kernel.newmark import TransientInterrupted
+from ..model.case import Case, Scene
+from ..plots.transient import plot_speeds
+from .outputs import analysis_references
+
+__all__ = ["write_transient"]
+
+
+def write_transient(
+    case: Case,
+    scene: Scene,
+    directory: str | os.PathLike,
+    *,
+    formulation: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    figure: bool = True,
+    model: Model | None = None,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 60.0,
+    resume: str | os.PathLike | None = None,
+) -> tuple[xr.Dataset, list[Path]]:
+    """Run the scene's transient and write ``<scene>.nc`` (and ``<scene>_speeds.png``).
+
+    The file is written under a temporary name and renamed when complete; a run
+    that fails or is interrupted writes nothing (but its checkpoint, when asked).
+    The file carries the frequencies ``pygear analyze`` names peaks with
+    (:func:`pygear.runs.outputs.analysis_references`).  A checkpoint holds the finished
+    run until the result is written, and is removed then: Ctrl-C or SIGTERM while
+    writing removes the temporary file and keeps the checkpoint, from which a resumed
+    run writes the result without integrating again.
+
+    Raises
+    ------
+    TransientInterrupted
+        Ctrl-C or SIGTERM, during the run or while its files are written.
+    """
+    directory = Path(directory)
+    stage = "setting up the run"
+    path = None
+    with signals_interrupt():  # a signal while writing raises, so temporaries are removed
+        try:
+            problem = transient_problem(case, scene, formulation=formulation, model=model)
+            check_transient_disk(
+                problem.settings, len(problem.probes), directory, f"scenes.{scene.name}.transient"
+            )
+            dataset = run_transient(
+                case,
+                scene,
+                progress=progress,
+                problem=problem,
+                checkpoint=checkpoint,
+                checkpoint_every=checkpoint_every,
+                resume=resume,
+            )
+            stage = "writing the result"
+            dataset = dataset.merge(analysis_references(case, problem.model, dataset))
+            path = write_netcdf(
+                dataset,
+                directory / f"{scene.name}.nc",
+                title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
+                input_hash=case.input_hash(),
+            )
+            written = [path]
+            if figure and any(
+                v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()
+            ):
+                written.append(_write_speed_figure(dataset, directory / f"{scene.name}_speeds.png"))
+        except WriteInterrupted as interrupt:
+            raise TransientInterrupted(
+                _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
+            ) from None
+    if checkpoint is not None:
+        Path(checkpoint).unlink(missing_ok=True)
+    return dataset, written
+
+
+def _write_speed_figure(dataset: xr.Dataset, target: Path) -> Path:
+    with atomic_path(target) as temporary:
+        plot_speeds([dataset], temporary, format="png")
+    return target
+
+
+def _interrupted_writing(interrupt, stage: str, path: Path | None, checkpoint) -> str:
+    """One line on what a signal outside the integration left behind."""
+    name = signal.Signals(interrupt.signal_number).name
+    if stage != "writing the result":
+        return f"interrupted by {name} while {stage}; no result file written"
+    if path is not None:
+        return f"interrupted by {name} after writing {path}; its figure was not written"
+    if checkpoint is not None:
+        kept = (
+            f"the finished run is kept in {checkpoint}: `pygear run --resume` writes the "
+            "result from it without running again"
+        )
+    else:
+        kept = "the run is lost (no checkpoint: --checkpoint-every or --resume keeps one)"
+    return f"interrupted by {name} while writing the result; {kept}; no result file written"
