@@ -23,6 +23,7 @@ from pygear.model.case import replace_parameter
 
 distributed = pytest.importorskip("distributed")
 
+from pygear.cli import batch as batch_cli  # noqa: E402
 from pygear.runs import batch, sweep  # noqa: E402
 from pygear.runs.cluster import jobqueue_cluster, validate_cluster_options  # noqa: E402
 
@@ -321,9 +322,9 @@ def test_find_case_dirs_errors(tmp_path):
 
 def command(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="pygear")
-    batch.add_parsers(parser.add_subparsers(dest="command", required=True))
+    batch_cli.add_parsers(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(argv)
-    return batch.HANDLERS[args.command](args)
+    return batch_cli.HANDLERS[args.command](args)
 
 
 def small_cases(tmp_path: Path) -> Path:

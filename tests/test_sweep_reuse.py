@@ -19,7 +19,8 @@ from pygear.model.case import replace_parameter
 
 distributed = pytest.importorskip("distributed")
 
-from pygear.runs import batch, sweep  # noqa: E402
+from pygear.cli import batch  # noqa: E402
+from pygear.runs import sweep  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANETARY = ROOT / "cases" / "yang2016_planetary"

@@ -331,7 +331,7 @@ def test_iterate_converges_where_predictor_diverges(study_case, modes):
 def test_unstable_run_fails_clearly_and_writes_nothing(study_case, tmp_path, capsys, monkeypatch):
     unstable = _short_scene(study_case, 1e-4, "predictor")
     case = dataclasses.replace(study_case, scenes=(unstable,))
-    monkeypatch.setattr("pygear.cli.parser.load_case", lambda reference: case)
+    monkeypatch.setattr("pygear.cli.run.load_case", lambda reference: case)
     assert main(["run", CASE, "--out", str(tmp_path)]) == 2
     error = capsys.readouterr().err
     assert "at t = " in error and "likely cause" in error and "mesh" in error
@@ -379,7 +379,7 @@ def test_ctrl_c_in_cli_leaves_no_file(study_case, tmp_path, capsys, monkeypatch)
         def __call__(self, done, total):
             raise KeyboardInterrupt
 
-    monkeypatch.setattr("pygear.cli.parser.ProgressBar", Interrupting)
+    monkeypatch.setattr("pygear.cli.run.ProgressBar", Interrupting)
     assert main(["run", CASE, "--scene", "runup", "--out", str(tmp_path)]) == 130
     assert "interrupted" in capsys.readouterr().err
     assert not list(tmp_path.iterdir())
@@ -390,7 +390,7 @@ def test_cli_checkpoint_and_resume(study_case, tmp_path, capsys, monkeypatch):
     exactly as an uninterrupted one and removes it."""
     scene = _short_scene(study_case, 2.5e-5, "predictor", duration=0.2)
     case = dataclasses.replace(study_case, scenes=(scene,))
-    monkeypatch.setattr("pygear.cli.parser.load_case", lambda reference: case)
+    monkeypatch.setattr("pygear.cli.run.load_case", lambda reference: case)
     interrupting = {"on": True}
 
     class Bar:
@@ -401,7 +401,7 @@ def test_cli_checkpoint_and_resume(study_case, tmp_path, capsys, monkeypatch):
             if interrupting["on"]:
                 raise KeyboardInterrupt
 
-    monkeypatch.setattr("pygear.cli.parser.ProgressBar", Bar)
+    monkeypatch.setattr("pygear.cli.run.ProgressBar", Bar)
     argv = ["run", CASE, "--out", str(tmp_path), "--checkpoint-every", "1000"]
     assert main(argv) == 130
     assert [p.name for p in tmp_path.iterdir()] == [f"{scene.name}.checkpoint.npz"]

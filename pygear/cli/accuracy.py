@@ -11,14 +11,16 @@ import argparse
 import dataclasses
 from collections.abc import Callable
 from pathlib import Path
-
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from ..errors import CaseError
 from ..model.case import FORMULATIONS
 from ..runs.json_output import json_text
 
-__all__ = ["HANDLERS", "add_parser", "parse_tolerance", "write_accuracy"]
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["HANDLERS", "add_parsers", "parse_tolerance", "write_accuracy"]
 
 
 def parse_tolerance(text: str) -> float:
@@ -33,7 +35,7 @@ def parse_tolerance(text: str) -> float:
     return value
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
+def add_parsers(commands: argparse._SubParsersAction) -> None:
     """The ``accuracy`` subcommand."""
     parser = commands.add_parser(
         "accuracy", help="error against wall time over a ladder of fidelities and time steps"

@@ -4,38 +4,32 @@
 of every case as one Dask task, writing what ``pygear run`` writes (``<scene>.nc``
 and its figures) into ``<out>/<case>/``.  A scene that fails is recorded with its
 error and the others go on; a scene asking for an analysis this pygear cannot run
-yet is reported as ``unsupported``.  The command-line parsers of ``batch`` and
-``sweep`` live here too (:func:`add_parsers`, :data:`HANDLERS`).
+yet is reported as ``unsupported``.  The ``batch`` and ``sweep`` commands are in
+:mod:`pygear.cli.batch`.
 """
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
 import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from ..analysis.modal import modal_analysis
 from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
 from ..io import atomic_path, write_netcdf
-from ..model.case import FORMULATIONS, Case, Scene, find_case_dir, load_case
+from ..model.case import Case, Scene, find_case_dir, load_case
 from .cluster import task_files
-from .json_output import json_text
 from .progress import ProgressBar
 from .scene_checks import check_scenes
 
 __all__ = [
-    "HANDLERS",
     "SCENE_ANALYSES",
     "SUMMARY_COLUMNS",
-    "add_parsers",
     "find_case_dirs",
     "run_batch",
     "run_scene",
@@ -275,143 +269,3 @@ def run_batch(
     with atomic_path(out / SUMMARY_NAME) as temporary:
         table.assign(files=table["files"].apply(" ".join)).to_csv(temporary, index=False)
     return table
-
-
-# --------------------------------------------------------------------------- commands
-
-
-def add_parsers(commands: argparse._SubParsersAction) -> None:
-    """Add the ``batch`` and ``sweep`` subcommands to pygear's subparsers."""
-    batch = commands.add_parser(
-        "batch",
-        help="run every scene of every case under DIRs in parallel (Dask)",
-        description="Exit code 0 when every scene ran, 1 when some failed, 2 for bad input.",
-    )
-    batch.add_argument("dirs", metavar="DIR", nargs="+", help="case directories or their parents")
-    batch.add_argument("--out", type=Path, default=Path("out"), help="output root (default: out)")
-    _add_dask_options(batch)
-    batch.add_argument("--json", action="store_true", help="print the summary as JSON")
-
-    sweep = commands.add_parser(
-        "sweep",
-        help="run a scene over a grid of parameter values (Dask), one file per point",
-        description="Each point's file, point_<hash>.nc, is named by the hash of its inputs: "
-        "the case, scene, formulation, parameter values and pygear's Python and Fortran "
-        "sources.  Sweeps may share one --out: a rerun or another sweep reuses every point "
-        "already there, in any order and either layout, and no sweep deletes a file; a "
-        "point with an error record or NaN results runs again, and so does every point "
-        "after the code changes.  Each sweep writes its combined dataset to "
-        "sweep_<hash>.nc and prints its name.  "
-        "Exit code 0 when every point ran, 1 when some failed, 2 for bad input.",
-    )
-    sweep.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
-    sweep.add_argument(
-        "--param",
-        action="append",
-        required=True,
-        metavar="PATH=VALUES",
-        help="e.g. planetary.sun_mesh.stiffness=logspace(7,10,7) (repeatable: a grid)",
-    )
-    sweep.add_argument("--zip", action="store_true", help="pair the values instead of a grid")
-    sweep.add_argument("--scene", help="scene to run (default: the case's first)")
-    sweep.add_argument("--formulation", choices=FORMULATIONS, help="override the scene's")
-    sweep.add_argument(
-        "--out",
-        type=Path,
-        help="sweep directory, may hold other sweeps (default: out/<case>/sweep_<paths>)",
-    )
-    _add_dask_options(sweep)
-    sweep.add_argument("--cluster", choices=("slurm", "pbs"), help="run on a job queue")
-    sweep.add_argument("--queue", help="job queue (partition)")
-    sweep.add_argument("--walltime", metavar="HH:MM:SS", help="wall time of each job")
-    sweep.add_argument("--memory", metavar="4GB", help="memory of each job (default 4GB)")
-    sweep.add_argument("--cores", type=int, help="cores of each job, one worker each (default 1)")
-    sweep.add_argument("--jobs", type=int, help="jobs to submit (default: enough for --workers)")
-    sweep.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
-
-
-def _add_dask_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--workers", type=int, default=2, help="local Dask workers (default 2)")
-    parser.add_argument("--scheduler", metavar="ADDRESS", help="use a running Dask scheduler")
-
-
-def _batch(args: argparse.Namespace) -> int:
-    table = run_batch(
-        args.dirs,
-        out_dir=args.out,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        progress=not args.json,
-    )
-    if args.json:
-        records = json.loads(table.to_json(orient="records"))
-        print(json_text({"out": str(args.out), "runs": records}))
-    else:
-        shown = table.assign(files=table["files"].apply(len)).drop(columns=["analyses"])
-        print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep="-"))
-        counts = table["status"].value_counts().to_dict()
-        print(
-            f"{len(table)} runs: "
-            + ", ".join(f"{n} {status}" for status, n in counts.items())
-            + f"; summary in {Path(args.out) / SUMMARY_NAME}"
-        )
-    return 1 if (table["status"] == "error").any() else 0
-
-
-def _sweep(args: argparse.Namespace) -> int:
-    from .sweep import parse_param, run_sweep
-
-    params = [parse_param(text) for text in args.param]
-    case = load_case(args.case)
-    out = args.out or Path("out") / case.name / (
-        "sweep_" + "__".join(path.replace(".", "_") for path, _ in params)
-    )
-    options = {
-        "queue": args.queue,
-        "walltime": args.walltime,
-        "memory": args.memory,
-        "cores": args.cores,
-        "jobs": args.jobs,
-    }
-    result = run_sweep(
-        case,
-        params,
-        zip_params=args.zip,
-        scene=args.scene,
-        formulation=args.formulation,
-        out_dir=out,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        cluster=args.cluster,
-        cluster_options=options,
-        progress=not args.json,
-    )
-    failed = int(result.attrs["points_failed"])
-    if args.json:
-        status = result.point_status.values.ravel()
-        errors = result.point_error.values.ravel()
-        print(
-            json_text(
-                {
-                    "case": result.attrs["case"],
-                    "scene": result.attrs["scene"],
-                    "formulation": result.attrs["formulation"],
-                    "parameters": {path: values.tolist() for path, values in params},
-                    "zip": bool(args.zip),
-                    **{
-                        key: int(result.attrs[key])
-                        for key in ("points", "points_computed", "points_reused", "points_failed")
-                    },
-                    "failures": [
-                        {"index": int(i), "error": str(errors[i])}
-                        for i in np.flatnonzero(status == "failed")
-                    ],
-                    "file": result.attrs["path"],
-                }
-            )
-        )
-    return 1 if failed else 0
-
-
-HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {"batch": _batch, "sweep": _sweep}
-"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""

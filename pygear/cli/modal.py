@@ -1,0 +1,224 @@
+"""``pygear modal``, ``pygear matrices`` and ``pygear sensitivity``: the modal family.
+
+Handlers import the analysis they run when called, so ``pygear --help`` loads none of it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from ..model.case import DOF_SETS, FORMULATIONS, load_case
+from ..runs.progress import ProgressBar
+
+__all__ = ["HANDLERS", "add_parsers", "modal_summary"]
+
+
+def _add_model_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    parser.add_argument(
+        "--formulation",
+        choices=FORMULATIONS,
+        help="model formulation (default: the scene's, else the case's)",
+    )
+    parser.add_argument(
+        "--dof-set",
+        choices=DOF_SETS,
+        help="DOF set (default: the scene's, else the smallest exact one)",
+    )
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``modal``, ``matrices`` and ``sensitivity`` subcommands."""
+    modal = commands.add_parser("modal", help="natural frequencies and mode classes")
+    _add_model_options(modal)
+    modal.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    modal.add_argument("--out", type=Path, help="also write modal.nc and figures to this directory")
+    modal.add_argument(
+        "--compare-stage", metavar="STAGE", help="also compare STAGE alone with it in the gearbox"
+    )
+
+    matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
+    _add_model_options(matrices)
+    matrices.add_argument("--out", type=Path, required=True, help="target .npz file")
+
+    sensitivity = commands.add_parser(
+        "sensitivity", help="natural frequencies against a stiffness parameter (paper Fig. 7)"
+    )
+    sensitivity.add_argument("case", metavar="CASE", help="case directory or case name")
+    sensitivity.add_argument(
+        "--parameter",
+        required=True,
+        help="stiffness parameter path, e.g. planetary.sun_mesh.stiffness",
+    )
+    sensitivity.add_argument(
+        "--values",
+        nargs="+",
+        required=True,
+        help="values: numbers, linspace(a,b,n) or logspace(a,b,n)",
+    )
+    sensitivity.add_argument(
+        "--formulation",
+        nargs="+",
+        choices=FORMULATIONS,
+        help="one or more formulations (default: the case's)",
+    )
+    sensitivity.add_argument("--dof-set", choices=DOF_SETS)
+    sensitivity.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
+    sensitivity.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def modal_summary(modal) -> dict:
+    """The numbers ``--json`` prints for a modal analysis."""
+    return {
+        "case": modal.attrs["case"],
+        "formulation": modal.attrs["formulation"],
+        "dof_set": modal.attrs["dof_set"],
+        "frequencies_hz": [float(f) for f in modal.frequency.values],
+        "mode_class": [str(c) for c in modal.mode_class.values],
+        "class_index": [int(i) for i in modal.class_index.values],
+        "multiplicity": [int(m) for m in modal.multiplicity.values],
+        "stage": [str(st) for st in modal.stage_name.values],
+    }
+
+
+def _print_modal_table(modal) -> None:
+    print(
+        f"{modal.attrs['case']}: {modal.attrs['formulation']} formulation, "
+        f"{modal.attrs['dof_set']} DOF set ({modal.attrs['dof_set_reason']}), "
+        f"{modal.sizes['mode']} modes"
+    )
+    several = modal.sizes["stage"] > 1
+    stage_header = f"{'stage':<12} " if several else ""
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {stage_header}{'class':<22} {'x':>2}")
+    for m, f, st, c, i, r in zip(
+        modal.mode.values,
+        modal.frequency.values,
+        modal.stage_name.values,
+        modal.mode_class.values,
+        modal.class_index.values,
+        modal.multiplicity.values,
+    ):
+        stage = f"{st:<12} " if several else ""
+        print(f"{m:>4}  {f:>14.1f}  {stage}{c + ' ' + str(i):<22} {r:>2}")
+
+
+def _modal(args: argparse.Namespace) -> int:
+    from ..analysis.modal import modal_analysis
+    from ..assembly.matrices import assemble
+    from ..runs.json_output import json_text
+    from ..runs.outputs import write_modal_outputs
+
+    case = load_case(args.case)
+    started = time.perf_counter()
+    model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
+    modal = modal_analysis(model)
+    elapsed = time.perf_counter() - started
+    if args.out:
+        write_modal_outputs(case, None, model, modal, args.out, f"modal_{model.formulation}")
+    summary = {**modal_summary(modal), "wall_s": elapsed}
+    if args.compare_stage:
+        from ..analysis.modal import stage_comparison
+
+        comparison = stage_comparison(case, args.compare_stage, model.formulation)
+        summary["stage_comparison"] = {
+            str(c): {
+                "in_gearbox_hz": _finite_list(comparison.in_gearbox.sel(mode_class=c).values),
+                "independent_hz": _finite_list(comparison.independent.sel(mode_class=c).values),
+            }
+            for c in comparison.mode_class.values
+        }
+    if args.json:
+        print(json_text(summary))
+        return 0
+    _print_modal_table(modal)
+    print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
+    for family, table in summary.get("stage_comparison", {}).items():
+        print(f"{args.compare_stage} {family}: in gearbox / alone [Hz]")
+        for a, b in zip(table["in_gearbox_hz"], table["independent_hz"]):
+            change = f"{(a / b - 1) * 100:+.2f} %" if b > 0 else ""
+            print(f"  {a:>10.1f} {b:>10.1f} {change}")
+    return 0
+
+
+def _finite_list(values: np.ndarray) -> list[float]:
+    return [float(v) for v in values if np.isfinite(v)]
+
+
+def _matrices(args: argparse.Namespace) -> int:
+    from ..assembly.matrices import assemble
+    from ..io import check_suffix, write_npz
+
+    check_suffix("--out", args.out, ".npz", "a NumPy archive of M, K, C and the DOF labels")
+    case = load_case(args.case)
+    model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
+    write_npz(
+        args.out,
+        M=model.mass,
+        K=model.stiffness,
+        C=model.damping,
+        dof_labels=np.array(model.dof_labels),
+        formulation=model.formulation,
+        dof_set=model.dof_set,
+    )
+    print(
+        f"wrote {args.out}: {model.size} DOFs ({model.formulation}, {model.dof_set})",
+        file=sys.stderr,
+    )
+    return 0
+
+
+def _sensitivity(args: argparse.Namespace) -> int:
+    from ..analysis.sensitivity import frequency_sweep, parse_values
+    from ..io import write_netcdf
+    from ..plots.modal import plot_frequency_sweep
+    from ..runs.json_output import json_text
+
+    case = load_case(args.case)
+    values = parse_values(args.values)
+    sweep = frequency_sweep(
+        case,
+        args.parameter,
+        values,
+        formulations=args.formulation,
+        dof_set=args.dof_set,
+        progress=ProgressBar("sensitivity", enabled=not args.json),
+    )
+    out = args.out or Path("out") / case.name
+    stem = f"sensitivity_{args.parameter.replace('.', '_')}"
+    path = write_netcdf(
+        sweep,
+        out / f"{stem}.nc",
+        input_hash=case.input_hash(),
+        title=f"Natural frequencies of {case.name} against {args.parameter}",
+    )
+    figure = out / f"{stem}.png"
+    plot_frequency_sweep(sweep, figure)
+    if args.json:
+        print(
+            json_text(
+                {
+                    "parameter": args.parameter,
+                    "values": values.tolist(),
+                    "formulations": [str(f) for f in sweep.formulation.values],
+                    "frequencies_hz": np.nan_to_num(sweep.frequency.values).tolist(),
+                    "files": [str(path), str(figure)],
+                }
+            )
+        )
+    else:
+        print(f"wrote {path} and {figure}")
+    return 0
+
+
+HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "modal": _modal,
+    "matrices": _matrices,
+    "sensitivity": _sensitivity,
+}
+"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""

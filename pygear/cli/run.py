@@ -1,0 +1,241 @@
+"""``pygear run``, ``pygear analyze`` and ``pygear mesh-stiffness``: running scenes and
+reading their results.
+
+Handlers import the analyses and writers they use when called, so ``pygear --help``
+loads none of them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import CaseError
+from ..model.case import FORMULATIONS, Case, Scene, load_case
+from ..runs.progress import ProgressBar
+from .modal import modal_summary
+
+__all__ = ["HANDLERS", "add_parsers"]
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``run``, ``analyze`` and ``mesh-stiffness`` subcommands."""
+    run = commands.add_parser("run", help="run a case's scenes and write results and figures")
+    run.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    run.add_argument("--scene", action="append", help="scene to run (repeatable; default: all)")
+    run.add_argument("--formulation", choices=FORMULATIONS, help="override every scene's")
+    run.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
+    run.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+    run.add_argument(
+        "--checkpoint-every",
+        type=float,
+        metavar="S",
+        help="transient scenes: save the state to DIR/<scene>.checkpoint.npz every S seconds "
+        "of wall time and on Ctrl-C or SIGTERM",
+    )
+    run.add_argument(
+        "--resume",
+        action="store_true",
+        help="transient scenes: continue from DIR/<scene>.checkpoint.npz when it exists "
+        "(saved again on Ctrl-C or SIGTERM, removed once the result is written)",
+    )
+
+    analyze = commands.add_parser(
+        "analyze", help="spectrum, envelope spectrum and DRA of a run's channel (Figs. 10-14)"
+    )
+    analyze.add_argument("run", metavar="RUN.nc", type=Path, help="a run's NetCDF file")
+    analyze.add_argument("--channel", help="time series to analyse (default: an acceleration)")
+    analyze.add_argument(
+        "--band",
+        nargs=2,
+        type=float,
+        default=(5000.0, 10000.0),
+        metavar=("LOW", "HIGH"),
+        help="DRA band [Hz] (default 5000 10000)",
+    )
+    analyze.add_argument("--after", type=float, default=1.0, help="skip the start-up [s]")
+    analyze.add_argument("--mesh-frequency", type=float, help="mesh frequency [Hz] for labels")
+    analyze.add_argument("--out", type=Path, help="output stem (default: beside RUN.nc)")
+    analyze.add_argument("--json", action="store_true", help="print the peak tables as JSON")
+
+    mesh = commands.add_parser(
+        "mesh-stiffness", help="time-varying mesh stiffness at constant carrier speed (Fig. 3)"
+    )
+    mesh.add_argument("case", metavar="CASE", help="case directory or case name")
+    mesh.add_argument("--speed", type=float, default=120.0, help="carrier speed [rpm]")
+    mesh.add_argument("--duration", type=float, help="length [s] (default: 5 mesh cycles)")
+    mesh.add_argument("--out", type=Path, required=True, help="target .nc file (figure beside)")
+
+
+def _analyze(args: argparse.Namespace) -> int:
+    import xarray as xr
+
+    from ..analysis.analyze import pick_channel
+    from ..analysis.peaks import peak_table_text
+    from ..runs.json_output import json_text
+    from ..runs.outputs import stored_references, write_signal_analysis
+
+    if not args.run.is_file():
+        raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
+    if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):
+        raise CaseError(
+            f"--out {str(args.out)!r} is an output stem: STEM_<channel>.nc and .png are "
+            f"written (drop the {args.out.suffix})"
+        )
+    with xr.open_dataset(args.run) as opened:
+        run = opened.load()
+    # the run file carries its own frequencies: nothing is loaded from the case it names
+    natural, stored_mesh_frequency = stored_references(run, args.run)
+    stem = args.out or args.run.with_name(args.run.stem)
+    channel = pick_channel(run, args.channel)
+    if stem.with_name(f"{stem.name}_{channel}.nc").resolve() == args.run.resolve():
+        raise CaseError(f"--out {str(stem)!r} would write the spectra over RUN.nc itself")
+    analysis, files = write_signal_analysis(
+        run,
+        stem,
+        channel=channel,
+        band=args.band,
+        after=args.after,
+        natural=natural,
+        mesh_frequency=args.mesh_frequency or stored_mesh_frequency,
+    )
+    if args.json:
+        print(json_text({**analysis.summary(), "files": [str(f) for f in files]}))
+        return 0
+    for name, table in analysis.peaks.items():
+        print(peak_table_text(table, title=f"{name} of {analysis.channel}"))
+    print(f"wrote {files[0]} and {files[1]}")
+    return 0
+
+
+def _mesh_stiffness(args: argparse.Namespace) -> int:
+    from ..io import check_suffix
+    from ..runs.mesh_stiffness import write_mesh_stiffness
+
+    check_suffix("--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)")
+    if not np.isfinite(args.speed) or args.speed == 0:
+        raise CaseError(
+            f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"
+        )
+    if args.duration is not None and not (np.isfinite(args.duration) and args.duration > 0):
+        raise CaseError(f"--duration must be a positive number of seconds (got {args.duration})")
+    dataset = write_mesh_stiffness(args.case, args.speed, args.duration, args.out)
+    print(
+        f"wrote {args.out} and {args.out.with_suffix('.png')}: "
+        f"{dataset.sizes['mesh']} meshes, {dataset.sizes['time']} samples"
+    )
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from ..analysis.modal import modal_analysis
+    from ..analysis.transient import runup_table_text, transient_summary
+    from ..assembly.matrices import assemble
+    from ..io import write_netcdf
+    from ..runs.json_output import json_text
+    from ..runs.outputs import write_modal_outputs, write_run_signals
+    from ..runs.scene_checks import check_scenes
+
+    case = base_case = load_case(args.case)
+    scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
+    out = args.out or Path("out") / case.name
+    check_scenes(base_case, scenes, formulation=args.formulation, out=out)  # before any runs
+    summary: dict = {"case": case.name, "scenes": {}}
+    transients: dict = {}
+    run_started = time.perf_counter()
+    for scene in scenes:
+        started = time.perf_counter()
+        case = base_case.for_scene(scene)
+        model = assemble(case, scene, formulation=args.formulation)
+        entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
+        if "modal" in scene.analyses:
+            modal = modal_analysis(model)
+            files = write_modal_outputs(case, scene, model, modal, out, scene.name)
+            entry.update(modal_summary(modal))
+            entry["files"] += [str(p) for p in files]
+        if "sensitivity" in scene.analyses:
+            from ..analysis.sensitivity import frequency_sensitivity
+
+            sensitivity = frequency_sensitivity(model)
+            path = write_netcdf(
+                sensitivity,
+                out / f"{scene.name}_sensitivity.nc",
+                input_hash=case.input_hash(),
+                title=f"Frequency sensitivities of {case.name}",
+            )
+            entry["files"].append(str(path))
+        if "transient" in scene.analyses:
+            try:
+                dataset, files = _run_transient(case, scene, model, out, args)
+            except KeyboardInterrupt as interrupt:
+                print(f"pygear run: scene {scene.name}: {interrupt}", file=sys.stderr)
+                return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
+            transients[scene.name] = dataset
+            entry.update(transient_summary(dataset))
+            entry["files"] += [str(p) for p in files]
+            if "signal" in scene.analyses:
+                written = write_run_signals(case, model, dataset, out, scene.name)
+                entry["files"] += [str(p) for p in written]
+        entry["wall_s"] = time.perf_counter() - started
+        summary["scenes"][scene.name] = entry
+        if not args.json:
+            print(
+                f"scene {scene.name}: {model.formulation}, {model.dof_set} "
+                f"({model.size} DOFs), {entry['wall_s'] * 1e3:.0f} ms"
+            )
+            for path in entry["files"]:
+                print(f"  wrote {path}")
+    if len(transients) > 1:
+        summary["files"] = [str(_compare_transients(transients, out))]
+    summary["wall_s"] = time.perf_counter() - run_started
+    if args.json:
+        print(json_text(summary))
+    elif transients:
+        print(runup_table_text(transients))
+    return 0
+
+
+def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):
+    """One transient scene: run it with a progress bar and write ``<scene>.nc``."""
+    from ..runs.transient_outputs import write_transient
+
+    progress = ProgressBar(f"{scene.name}", enabled=not args.json)
+    checkpoint = out / f"{scene.name}.checkpoint.npz"
+    every = args.checkpoint_every
+    if every is not None and not every > 0:
+        raise CaseError(f"--checkpoint-every must be a positive number of seconds (got {every})")
+    return write_transient(
+        case,
+        scene,
+        out,
+        progress=progress,
+        model=model,
+        # resuming keeps the file current: saved again on a signal, removed when done
+        checkpoint=checkpoint if every is not None or args.resume else None,
+        checkpoint_every=every if every is not None else float("inf"),
+        resume=checkpoint if args.resume and checkpoint.is_file() else None,
+    )
+
+
+def _compare_transients(transients: dict, out: Path) -> Path:
+    """The speeds of several transient scenes side by side (seed Figure 9)."""
+    from ..io import atomic_path
+    from ..plots.transient import plot_speeds
+
+    target = out / "transient_speeds.png"
+    with atomic_path(target) as temporary:
+        plot_speeds(list(transients.values()), temporary, format="png")
+    return target
+
+
+HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "run": _run,
+    "analyze": _analyze,
+    "mesh-stiffness": _mesh_stiffness,
+}
+"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""
