@@ -63,7 +63,7 @@ contains
   !> lin-parker:  diag(m, m, m, I_t, I_t, I_p) and no revolution DOF (row 7 zero)
   subroutine planet_mass(formulation, mass, tilt_inertia, polar_inertia, carrier_radius, &
                          mass_translation, mass_rotation, ierr)
-    integer(ik), intent(in) :: formulation          !< formulation code (1, 2, 3)
+    integer(ik), intent(in) :: formulation          !< formulation code (1, 2, 3) [-]
     real(dp), intent(in) :: mass                    !< planet mass [kg]
     real(dp), intent(in) :: tilt_inertia            !< inertia about zeta and eta [kg m^2]
     real(dp), intent(in) :: polar_inertia           !< inertia about its own axis [kg m^2]
@@ -174,7 +174,7 @@ contains
   !> tilting gives no deflection), and the spin arms are the base radii.
   subroutine planetary_mesh(mesh_kind, planet_angle, pressure_angle, base_radius_central, &
                             base_radius_planet, carrier_radius, base_helix_angle, deflection, ierr)
-    integer(ik), intent(in) :: mesh_kind           !< 1 sun-planet, 2 ring-planet
+    integer(ik), intent(in) :: mesh_kind           !< 1 sun-planet, 2 ring-planet [-]
     real(dp), intent(in) :: planet_angle           !< planet angle psi_n [rad]
     real(dp), intent(in) :: pressure_angle         !< transverse pressure angle [rad]
     real(dp), intent(in) :: base_radius_central    !< base radius of sun or ring [m]
@@ -269,29 +269,33 @@ contains
     centrifugal(2, 2) = -mass * carrier_speed**2
   end subroutine planet_speed_terms
 
+  !> Cross product a x b.
   pure function cross(a, b) result(c)
-    real(dp), intent(in) :: a(3), b(3)
-    real(dp) :: c(3)
+    real(dp), intent(in) :: a(3)  !< first factor [units of a]
+    real(dp), intent(in) :: b(3)  !< second factor [units of b]
+    real(dp) :: c(3)              !< a x b [units of a times b]
     c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
   end function cross
 
   !> Matrix R with R v = r x v.
   pure function cross_matrix(r) result(m)
-    real(dp), intent(in) :: r(3)
-    real(dp) :: m(3, 3)
+    real(dp), intent(in) :: r(3)  !< lever arm [m]
+    real(dp) :: m(3, 3)           !< R [m]
     m = reshape([0.0_dp, r(3), -r(2), -r(3), 0.0_dp, r(1), r(2), -r(1), 0.0_dp], [3, 3])
   end function cross_matrix
 
+  !> err_argument unless every value is positive and finite.
   pure function check_positive(values) result(ierr)
-    real(dp), intent(in) :: values(:)
-    integer(ik) :: ierr
+    real(dp), intent(in) :: values(:)  !< stiffnesses, masses or lengths [SI]
+    integer(ik) :: ierr                !< error code (0 = ok)
     ierr = ok
     if (any(.not. (values > 0.0_dp)) .or. any(values > huge(1.0_dp))) ierr = err_argument
   end function check_positive
 
+  !> err_argument unless every value is non-negative and finite.
   pure function check_non_negative(values) result(ierr)
-    real(dp), intent(in) :: values(:)
-    integer(ik) :: ierr
+    real(dp), intent(in) :: values(:)  !< stiffnesses, masses or lengths [SI]
+    integer(ik) :: ierr                !< error code (0 = ok)
     ierr = ok
     if (any(.not. (values >= 0.0_dp)) .or. any(values > huge(1.0_dp))) ierr = err_argument
   end function check_non_negative

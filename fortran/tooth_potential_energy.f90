@@ -128,7 +128,7 @@ contains
 
   !> Half tooth angle at pressure angle alpha (radius r_b / cos alpha).
   pure real(dp) function half_angle(t, alpha)
-    type(tooth_shape), intent(in) :: t
+    type(tooth_shape), intent(in) :: t  !< the tooth
     real(dp), intent(in) :: alpha   !< pressure angle of the radius [rad]
     if (t%internal) then
       half_angle = t%psi_b + involute(alpha)
@@ -139,8 +139,8 @@ contains
 
   !> Check one gear's parameters; bad names the first bad entry (0 if none).
   pure subroutine check_gear(p, bad)
-    real(dp), intent(in) :: p(n_gear_param)   !< gear parameters
-    integer(ik), intent(out) :: bad           !< first bad index, 0 if none
+    real(dp), intent(in) :: p(n_gear_param)   !< gear parameters [m, rad, Pa, -]
+    integer(ik), intent(out) :: bad           !< first bad index, 0 if none [-]
     integer :: i
     bad = 0
     do i = 1, n_gear_param
@@ -183,10 +183,10 @@ contains
   !> for an external tooth, psi_b + inv(alpha_r) for a ring tooth.  bad names the
   !> parameter at fault when the tooth cannot be built.
   pure subroutine build_tooth(p, t, bad, ierr)
-    real(dp), intent(in) :: p(n_gear_param)   !< gear parameters
+    real(dp), intent(in) :: p(n_gear_param)   !< gear parameters [m, rad, Pa, -]
     type(tooth_shape), intent(out) :: t        !< the tooth
-    integer(ik), intent(out) :: bad            !< bad parameter, 0 if none
-    integer(ik), intent(out) :: ierr           !< pe_ok, pe_err_argument or pe_err_geometry
+    integer(ik), intent(out) :: bad            !< bad parameter, 0 if none [-]
+    integer(ik), intent(out) :: ierr           !< pe_ok, pe_err_argument or pe_err_geometry (error code)
     real(dp) :: sin_psi
     integer :: i
 
@@ -258,7 +258,7 @@ contains
   end subroutine build_tooth
 
   pure real(dp) function sainsot_value(c, h_fi, theta_f)
-    real(dp), intent(in) :: c(6)      !< A..F of one coefficient
+    real(dp), intent(in) :: c(6)      !< A..F of one coefficient [-]
     real(dp), intent(in) :: h_fi      !< r_f / r_int [-]
     real(dp), intent(in) :: theta_f   !< half tooth angle at the root circle [rad]
     sainsot_value = c(1) / theta_f**2 + c(2) * h_fi**2 + c(3) * h_fi / theta_f &
@@ -268,10 +268,10 @@ contains
   !> Both teeth and the path of contact.  Gear 1 internal is computed with the
   !> gears swapped (swapped = .true.); the public routines run its path backwards.
   pure subroutine build_mesh(gear, mesh_param, mesh, bad_param, ierr)
-    real(dp), intent(in) :: gear(n_gear_param, 2)      !< gear parameters
+    real(dp), intent(in) :: gear(n_gear_param, 2)      !< gear parameters [m, rad, Pa, -]
     real(dp), intent(in) :: mesh_param(n_mesh_param)   !< centre distance [m], alpha_wt [rad]
     type(mesh_shape), intent(out) :: mesh               !< the mesh
-    integer(ik), intent(out) :: bad_param   !< 100 g + index, 300 + mesh index, 0 if none
+    integer(ik), intent(out) :: bad_param   !< 100 g + index, 300 + mesh index, 0 if none [-]
     integer(ik), intent(out) :: ierr        !< error code
     integer(ik) :: bad
     integer :: g, order(2)
@@ -367,8 +367,8 @@ contains
 
   !> Roll distance of the contact point on tooth g at transverse position p [mesh cycles].
   pure real(dp) function contact_roll(mesh, g, p)
-    type(mesh_shape), intent(in) :: mesh
-    integer, intent(in) :: g          !< 1 or 2 (in the computation's order)
+    type(mesh_shape), intent(in) :: mesh  !< the mesh
+    integer, intent(in) :: g          !< 1 or 2 (in the computation's order) [-]
     real(dp), intent(in) :: p         !< position along the path of contact [mesh cycles]
     real(dp) :: s1
     s1 = mesh%s_start + p * mesh%base_pitch
@@ -384,10 +384,10 @@ contains
   !> Translate the packed fault into the damaged tooth's terms.
   pure subroutine build_damage(t, fault, width, d, bad, ierr)
     type(tooth_shape), intent(in) :: t              !< the damaged tooth
-    real(dp), intent(in) :: fault(n_fault_param)    !< packed fault
+    real(dp), intent(in) :: fault(n_fault_param)    !< packed fault [-, -, m, m, m or rad]
     real(dp), intent(in) :: width                   !< loaded face width [m]
     type(tooth_damage), intent(out) :: d            !< the damage
-    integer(ik), intent(out) :: bad                 !< bad fault index, 0 if none
+    integer(ik), intent(out) :: bad                 !< bad fault index, 0 if none [-]
     integer(ik), intent(out) :: ierr                !< error code
     real(dp) :: centre_roll, arc_centre, arc_lo, arc_hi, h_tip
 
@@ -475,7 +475,7 @@ contains
 
   !> Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n).
   pure subroutine gauss_legendre(n, node, weight)
-    integer, intent(in) :: n            !< number of points
+    integer, intent(in) :: n            !< number of points [-]
     real(dp), intent(out) :: node(n)    !< nodes [-]
     real(dp), intent(out) :: weight(n)  !< weights [-]
     integer :: i, j, k
@@ -514,7 +514,7 @@ contains
   !> carries load, for the healthy tooth or its damaged width.
   pure real(dp) function bearing_height(h, alpha, damaged, d)
     real(dp), intent(in) :: h           !< healthy half height [m]
-    real(dp), intent(in) :: alpha       !< involute parameter of the section, -1 on the straight flank
+    real(dp), intent(in) :: alpha       !< involute parameter of the section, -1 on the straight flank [rad]
     logical, intent(in) :: damaged      !< the damaged width part
     type(tooth_damage), intent(in) :: d !< the damage
     bearing_height = 2.0_dp * h
@@ -530,11 +530,12 @@ contains
   !> Bending, shear and axial compliance of one tooth per unit face width for a unit
   !> load at pressure angle alpha_c (contact radius r_b / cos alpha_c).
   pure subroutine beam_compliance(t, alpha_c, damaged, d, node, weight, c_b, c_s, c_a, beta)
-    type(tooth_shape), intent(in) :: t
+    type(tooth_shape), intent(in) :: t  !< the tooth
     real(dp), intent(in) :: alpha_c        !< contact pressure angle [rad]
     logical, intent(in) :: damaged         !< integrate the damaged width's section
     type(tooth_damage), intent(in) :: d    !< the damage (used when damaged)
-    real(dp), intent(in) :: node(:), weight(:)   !< Gauss-Legendre rule on [-1, 1]
+    real(dp), intent(in) :: node(:)    !< Gauss-Legendre nodes on [-1, 1] [-]
+    real(dp), intent(in) :: weight(:)  !< Gauss-Legendre weights [-]
     real(dp), intent(out) :: c_b, c_s, c_a !< compliances per unit width [m/N m = 1/Pa]
     real(dp), intent(out) :: beta          !< load angle [rad]
     real(dp) :: r_c, psi_c, x_p, y_p, cos_b, sin_b, breaks(6), lo, hi, span, mid
@@ -616,7 +617,7 @@ contains
   !> Pressure angle of the involute section whose half height equals y (bisection;
   !> -1 when no section of the involute has that half height).
   pure real(dp) function clip_angle(t, y)
-    type(tooth_shape), intent(in) :: t
+    type(tooth_shape), intent(in) :: t  !< the tooth
     real(dp), intent(in) :: y          !< half height [m]
     real(dp) :: a, b, m, f_a, f_m
     integer :: k
@@ -646,9 +647,9 @@ contains
   end function clip_angle
 
   pure subroutine insert_break(breaks, nb, value)
-    real(dp), intent(inout) :: breaks(:)
-    integer, intent(inout) :: nb
-    real(dp), intent(in) :: value
+    real(dp), intent(inout) :: breaks(:)  !< sorted break points, involute angles [rad]
+    integer, intent(inout) :: nb  !< break points in use [-]
+    real(dp), intent(in) :: value  !< break point to insert [rad]
     integer :: k
     k = nb
     do while (k >= 1)
@@ -662,7 +663,7 @@ contains
 
   !> Fillet-foundation compliance per unit face width, Sainsot et al. (2004).
   pure real(dp) function foundation_compliance(t, alpha_c, beta)
-    type(tooth_shape), intent(in) :: t
+    type(tooth_shape), intent(in) :: t  !< the tooth
     real(dp), intent(in) :: alpha_c   !< contact pressure angle [rad]
     real(dp), intent(in) :: beta      !< load angle [rad]
     real(dp) :: r_c, psi_c, u_f, s_f
@@ -681,12 +682,13 @@ contains
   !> Compliances of one tooth over a face-width slice [z0, z0 + w] with the damage
   !> (if any) at a contact of roll distance s.  loaded_width is the width in contact.
   pure subroutine slice_compliance(t, s, z0, w, has_damage, d, node, weight, c, loaded_width)
-    type(tooth_shape), intent(in) :: t
+    type(tooth_shape), intent(in) :: t  !< the tooth
     real(dp), intent(in) :: s              !< roll distance of the contact [m]
     real(dp), intent(in) :: z0, w          !< slice start and width along the face [m]
     logical, intent(in) :: has_damage      !< this tooth carries the damage
-    type(tooth_damage), intent(in) :: d
-    real(dp), intent(in) :: node(:), weight(:)
+    type(tooth_damage), intent(in) :: d  !< the damage
+    real(dp), intent(in) :: node(:)    !< Gauss-Legendre nodes on [-1, 1] [-]
+    real(dp), intent(in) :: weight(:)  !< Gauss-Legendre weights [-]
     real(dp), intent(out) :: c(4)          !< bending, shear, axial, foundation [m/N]
     real(dp), intent(out) :: loaded_width  !< width in contact [m]
     real(dp) :: alpha_c, hb(3), db(3), beta, w_dam, w_int, r_c
@@ -729,12 +731,13 @@ contains
   !> Stiffness of one tooth pair (a face-width slice) at transverse position p, with
   !> the breakdown of compliances (Hertz, then b s a f of tooth 1 and of tooth 2).
   pure subroutine slice_pair(mesh, p, z0, w, damaged_tooth, d, node, weight, k, breakdown)
-    type(mesh_shape), intent(in) :: mesh
+    type(mesh_shape), intent(in) :: mesh  !< the mesh
     real(dp), intent(in) :: p               !< transverse position [mesh cycles]
     real(dp), intent(in) :: z0, w           !< slice along the face [m]
-    integer, intent(in) :: damaged_tooth    !< 0, 1 or 2 (computation order)
-    type(tooth_damage), intent(in) :: d
-    real(dp), intent(in) :: node(:), weight(:)
+    integer, intent(in) :: damaged_tooth    !< 0, 1 or 2 (computation order) [-]
+    type(tooth_damage), intent(in) :: d  !< the damage
+    real(dp), intent(in) :: node(:)    !< Gauss-Legendre nodes on [-1, 1] [-]
+    real(dp), intent(in) :: weight(:)  !< Gauss-Legendre weights [-]
     real(dp), intent(out) :: k              !< pair stiffness [N/m]
     real(dp), intent(out) :: breakdown(n_compliance_out)   !< compliances [m/N]
     real(dp) :: c(4), loaded(2), contact_width
@@ -760,12 +763,13 @@ contains
   !> Pair stiffness at position p of a (helical) pair cut into n_slice face slices, each
   !> shifted by eps_beta / n_slice along the path; spur gears have one slice.
   pure real(dp) function pair_stiffness(mesh, p, n_slice, damaged_tooth, d, node, weight)
-    type(mesh_shape), intent(in) :: mesh
+    type(mesh_shape), intent(in) :: mesh  !< the mesh
     real(dp), intent(in) :: p               !< position from the pair's entry [mesh cycles]
-    integer, intent(in) :: n_slice          !< face-width slices
-    integer, intent(in) :: damaged_tooth    !< 0, 1 or 2 (computation order)
-    type(tooth_damage), intent(in) :: d
-    real(dp), intent(in) :: node(:), weight(:)
+    integer, intent(in) :: n_slice          !< face-width slices [-]
+    integer, intent(in) :: damaged_tooth    !< 0, 1 or 2 (computation order) [-]
+    type(tooth_damage), intent(in) :: d  !< the damage
+    real(dp), intent(in) :: node(:)    !< Gauss-Legendre nodes on [-1, 1] [-]
+    real(dp), intent(in) :: weight(:)  !< Gauss-Legendre weights [-]
     real(dp) :: w, shift, k, breakdown(n_compliance_out)
     integer :: j
 
@@ -786,10 +790,10 @@ contains
   !> roll distance of gear 1's contact at the start and end of contact [m], theta_f1,
   !> theta_f2 [rad], loaded face width [m].  Gear order as given.
   pure subroutine mesh_geometry_summary(gear, mesh_param, summary, bad_param, ierr)
-    real(dp), intent(in) :: gear(n_gear_param, 2)   !< gear parameters (see docs)
+    real(dp), intent(in) :: gear(n_gear_param, 2)   !< gear parameters (see docs) [m, rad, Pa, -]
     real(dp), intent(in) :: mesh_param(n_mesh_param) !< centre distance [m], alpha_wt [rad]
-    real(dp), intent(out) :: summary(n_geometry_out) !< geometry summary
-    integer(ik), intent(out) :: bad_param            !< 100 g + index of the bad parameter
+    real(dp), intent(out) :: summary(n_geometry_out) !< geometry summary [-, m, rad]
+    integer(ik), intent(out) :: bad_param            !< 100 g + index of the bad parameter [-]
     integer(ik), intent(out) :: ierr                 !< error code
     type(mesh_shape) :: mesh
     integer :: a, b
@@ -830,9 +834,9 @@ contains
   pure subroutine mesh_stiffness_curves(gear, mesh_param, fault, n_sample, n_cycle, n_window, n_slice, n_quad, &
                                         pair_healthy, pair_faulty, breakdown, mesh_healthy, &
                                         mesh_faulty, bad_param, ierr)
-    real(dp), intent(in) :: gear(n_gear_param, 2)   !< gear parameters
+    real(dp), intent(in) :: gear(n_gear_param, 2)   !< gear parameters [m, rad, Pa, -]
     real(dp), intent(in) :: mesh_param(n_mesh_param) !< centre distance [m], alpha_wt [rad]
-    real(dp), intent(in) :: fault(n_fault_param)    !< packed fault (kind 0: none)
+    real(dp), intent(in) :: fault(n_fault_param)    !< packed fault (kind 0: none) [-, -, m, m, m or rad]
     integer(ik), intent(in) :: n_sample             !< samples of the pair curves [-]
     integer(ik), intent(in) :: n_cycle              !< samples per mesh cycle [-]
     integer(ik), intent(in) :: n_window             !< cycles of mesh_faulty [-]
@@ -843,7 +847,7 @@ contains
     real(dp), intent(out) :: breakdown(n_compliance_out, n_sample) !< spur compliances [m/N]
     real(dp), intent(out) :: mesh_healthy(n_cycle)  !< mesh stiffness over one cycle [N/m]
     real(dp), intent(out) :: mesh_faulty(n_cycle * n_window) !< mesh stiffness, damaged pass [N/m]
-    integer(ik), intent(out) :: bad_param           !< 100 g + index, or 1000 + fault index
+    integer(ik), intent(out) :: bad_param           !< 100 g + index, or 1000 + fault index [-]
     integer(ik), intent(out) :: ierr                !< error code
     type(mesh_shape) :: mesh
     type(tooth_damage) :: d, no_damage
@@ -923,7 +927,7 @@ contains
     !> drives; with gear 1 internal the computation runs the path backwards.
     pure real(dp) function oriented_pair(position, tooth)
       real(dp), intent(in) :: position   !< [mesh cycles]
-      integer, intent(in) :: tooth       !< damaged tooth (computation order), 0 healthy
+      integer, intent(in) :: tooth       !< damaged tooth (computation order), 0 healthy [-]
       real(dp) :: p_comp
       oriented_pair = 0.0_dp
       if (position < 0.0_dp .or. position > eps) return
@@ -944,14 +948,14 @@ contains
   !> compliance(:, i) = bending, shear, axial, foundation [m/N]; load_angle [rad].
   pure subroutine tooth_compliance(p, fault, n_point, contact_radius, n_quad, compliance, &
                                    load_angle, bad_param, ierr)
-    real(dp), intent(in) :: p(n_gear_param)           !< gear parameters
-    real(dp), intent(in) :: fault(n_fault_param)      !< packed fault (kind 0: none)
+    real(dp), intent(in) :: p(n_gear_param)           !< gear parameters [m, rad, Pa, -]
+    real(dp), intent(in) :: fault(n_fault_param)      !< packed fault (kind 0: none) [-, -, m, m, m or rad]
     integer(ik), intent(in) :: n_point                !< contact points [-]
     real(dp), intent(in) :: contact_radius(n_point)   !< contact radii [m]
     integer(ik), intent(in) :: n_quad                 !< Gauss points per segment [-]
     real(dp), intent(out) :: compliance(4, n_point)   !< b, s, a, f compliances [m/N]
     real(dp), intent(out) :: load_angle(n_point)      !< load angle beta [rad]
-    integer(ik), intent(out) :: bad_param             !< index of the bad parameter
+    integer(ik), intent(out) :: bad_param             !< index of the bad parameter [-]
     integer(ik), intent(out) :: ierr                  !< error code
     type(tooth_shape) :: t
     type(tooth_damage) :: d

@@ -19,13 +19,13 @@ subroutine planet_mass_matrix(formulation, mass, tilt_inertia, polar_inertia, ca
   use kinds, only: dp, ik
   use elements, only: planet_mass
   implicit none
-  integer(ik), intent(in) :: formulation          !< 1 improved, 2 consistent, 3 lin-parker
+  integer(ik), intent(in) :: formulation          !< 1 improved, 2 consistent, 3 lin-parker [-]
   real(dp), intent(in) :: mass                    !< planet mass [kg]
   real(dp), intent(in) :: tilt_inertia            !< inertia about zeta and eta [kg m^2]
   real(dp), intent(in) :: polar_inertia           !< inertia about its axis [kg m^2]
   real(dp), intent(in) :: carrier_radius          !< r_c [m]
-  real(dp), intent(out) :: mass_translation(7, 7) !< translational part
-  real(dp), intent(out) :: mass_rotation(7, 7)    !< rotational part
+  real(dp), intent(out) :: mass_translation(7, 7) !< translational part [kg, kg m, kg m^2]
+  real(dp), intent(out) :: mass_rotation(7, 7)    !< rotational part [kg m^2]
   integer(ik), intent(out) :: ierr                !< error code (0 = ok)
   call planet_mass(formulation, mass, tilt_inertia, polar_inertia, carrier_radius, &
                    mass_translation, mass_rotation, ierr)
@@ -41,7 +41,7 @@ subroutine central_bearing_springs(radial, axial, tilt, torsional, offset, defle
   real(dp), intent(in) :: torsional           !< torsional stiffness [N m/rad]
   real(dp), intent(in) :: offset(3)           !< member centre minus housing point [m]
   real(dp), intent(out) :: deflection(12, 6)  !< b vectors over [member, housing]
-  real(dp), intent(out) :: stiffness(6)       !< spring stiffnesses
+  real(dp), intent(out) :: stiffness(6)       !< spring stiffnesses [N/m, N m/rad]
   integer(ik), intent(out) :: ierr            !< error code (0 = ok)
   call central_bearing(radial, axial, tilt, torsional, offset, deflection, stiffness, ierr)
 end subroutine central_bearing_springs
@@ -57,7 +57,7 @@ subroutine planet_bearing_springs(planet_angle, carrier_radius, radial, axial, t
   real(dp), intent(in) :: axial               !< axial stiffness [N/m]
   real(dp), intent(in) :: tilt                !< tilting stiffness [N m/rad]
   real(dp), intent(out) :: deflection(13, 5)  !< b vectors over [carrier, planet]
-  real(dp), intent(out) :: stiffness(5)       !< spring stiffnesses
+  real(dp), intent(out) :: stiffness(5)       !< spring stiffnesses [N/m, N m/rad]
   integer(ik), intent(out) :: ierr            !< error code (0 = ok)
   call planet_bearing(planet_angle, carrier_radius, radial, axial, tilt, deflection, stiffness, ierr)
 end subroutine planet_bearing_springs
@@ -67,7 +67,7 @@ subroutine planetary_mesh_vector(mesh_kind, planet_angle, pressure_angle, base_r
   use kinds, only: dp, ik
   use elements, only: planetary_mesh
   implicit none
-  integer(ik), intent(in) :: mesh_kind         !< 1 sun-planet, 2 ring-planet
+  integer(ik), intent(in) :: mesh_kind         !< 1 sun-planet, 2 ring-planet [-]
   real(dp), intent(in) :: planet_angle         !< psi_n [rad]
   real(dp), intent(in) :: pressure_angle       !< transverse pressure angle [rad]
   real(dp), intent(in) :: base_radius_central  !< sun or ring base radius [m]
