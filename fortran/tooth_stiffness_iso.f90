@@ -11,7 +11,7 @@
 !> internal gear (gear 2 of an internal mesh) ISO sets zn2 to infinity, so the
 !> terms in 1/zn2 vanish.  Solid gear blanks have C_R = 1 (web width equal to
 !> the face width).  Every routine is pure; the one entry point that checks its
-!> arguments returns an error code instead of stopping.
+!> pair returns an error code instead of stopping.
 module iso6336_stiffness
   use kinds, only: dp, ik
   implicit none
@@ -19,7 +19,7 @@ module iso6336_stiffness
 
   public :: virtual_teeth, minimum_flexibility, basic_rack_factor, gear_blank_factor
   public :: low_load_factor, mesh_stiffness_from_single, total_stiffness
-  public :: iso_mesh_stiffness
+  public :: iso_gear_pair, iso_stiffness, iso_mesh_stiffness
   public :: iso_ok, iso_err_argument, iso_err_range
   public :: correction_factor_cm, reference_line_load
 
@@ -35,6 +35,42 @@ module iso6336_stiffness
   real(dp), parameter :: correction_factor_cm = 0.8_dp  !< C_M, solid-disc correction [-]
   real(dp), parameter :: reference_line_load = 100.0_dp !< K_A F_t/b above which c' is load-free [N/mm]
   real(dp), parameter :: deg = 0.017453292519943295769236907684886_dp  !< one degree [rad]
+
+  !> One gear pair and its load, as method B takes them.
+  type :: iso_gear_pair
+    real(dp) :: teeth1 = 0.0_dp               !< z1, gear 1 (pinion) [-]
+    real(dp) :: teeth2 = 0.0_dp               !< |z2|, gear 2 [-]
+    integer(ik) :: internal = 0               !< 1: gear 2 internal, 0: external [-]
+    real(dp) :: shift1 = 0.0_dp               !< x1 [-]
+    real(dp) :: shift2 = 0.0_dp               !< x2 (ISO 21771 sign) [-]
+    real(dp) :: helix_deg = 0.0_dp            !< |beta| at the reference circle [deg]
+    real(dp) :: base_helix_deg = 0.0_dp       !< |beta_b| [deg]
+    real(dp) :: pressure_angle_deg = 0.0_dp   !< alpha_n = alpha_Pn [deg]
+    real(dp) :: dedendum1 = 0.0_dp            !< h_fP1/m_n [-]
+    real(dp) :: dedendum2 = 0.0_dp            !< h_fP2/m_n [-]
+    real(dp) :: web_width_ratio = 1.0_dp      !< b_s/b; 1 for solid gears [-]
+    real(dp) :: rim_thickness_ratio = 0.0_dp  !< s_R/m_n [-]
+    real(dp) :: line_load = 0.0_dp            !< K_A F_t/b [N/mm]
+    real(dp) :: contact_ratio = 0.0_dp        !< eps_alpha [-]
+    real(dp) :: face_width = 0.0_dp           !< b [m]
+  end type iso_gear_pair
+
+  !> Every factor of method B for one pair.
+  type :: iso_stiffness
+    real(dp) :: zn1 = 0.0_dp           !< virtual teeth of gear 1 [-]
+    real(dp) :: zn2 = 0.0_dp           !< virtual teeth of gear 2 (0 when internal) [-]
+    real(dp) :: flexibility = 0.0_dp   !< q' [mm um/N]
+    real(dp) :: theoretical = 0.0_dp   !< c'_th [N/(mm um)]
+    real(dp) :: blank_factor = 0.0_dp  !< C_R [-]
+    real(dp) :: rack_factor = 0.0_dp   !< C_B = (C_B1 + C_B2)/2 [-]
+    real(dp) :: load_factor = 0.0_dp   !< (K_A F_t/b / 100)**0.25 or 1 [-]
+    real(dp) :: single = 0.0_dp        !< c' [N/(mm um)]
+    real(dp) :: mesh_alpha = 0.0_dp    !< c_gamma_alpha [N/(mm um)]
+    real(dp) :: mesh_beta = 0.0_dp     !< c_gamma_beta [N/(mm um)]
+    real(dp) :: total_single = 0.0_dp  !< c' b [N/m]
+    real(dp) :: total_alpha = 0.0_dp   !< c_gamma_alpha b [N/m]
+    real(dp) :: total_beta = 0.0_dp    !< c_gamma_beta b [N/m]
+  end type iso_stiffness
 
 contains
 
@@ -118,97 +154,55 @@ contains
   end function total_stiffness
 
   !> ISO 6336-1 method B single and mesh stiffness of one gear pair, with every
-  !> factor returned.  Arguments are checked first: ierr = iso_err_argument for a
+  !> factor returned.  The pair is checked first: ierr = iso_err_argument for a
   !> non-physical value, iso_err_range outside the regression's range (x1 >= x2
-  !> for external pairs, -0.5 <= x1 + x2 <= 2).  Outputs are zero on error.
-  pure subroutine iso_mesh_stiffness(teeth1, teeth2, internal, shift1, shift2, helix_deg, &
-                                     base_helix_deg, pressure_angle_deg, dedendum1, dedendum2, &
-                                     web_width_ratio, rim_thickness_ratio, line_load, &
-                                     contact_ratio, face_width, zn1, zn2, flexibility, &
-                                     theoretical, blank_factor, rack_factor, load_factor, &
-                                     single, mesh_alpha, mesh_beta, total_single, total_alpha, &
-                                     total_beta, ierr)
-    real(dp), intent(in) :: teeth1               !< z1, gear 1 (pinion) [-]
-    real(dp), intent(in) :: teeth2               !< |z2|, gear 2 [-]
-    integer(ik), intent(in) :: internal          !< 1: gear 2 internal, 0: external [-]
-    real(dp), intent(in) :: shift1               !< x1 [-]
-    real(dp), intent(in) :: shift2               !< x2 (ISO 21771 sign) [-]
-    real(dp), intent(in) :: helix_deg            !< |beta| at the reference circle [deg]
-    real(dp), intent(in) :: base_helix_deg       !< |beta_b| [deg]
-    real(dp), intent(in) :: pressure_angle_deg   !< alpha_n = alpha_Pn [deg]
-    real(dp), intent(in) :: dedendum1            !< h_fP1/m_n [-]
-    real(dp), intent(in) :: dedendum2            !< h_fP2/m_n [-]
-    real(dp), intent(in) :: web_width_ratio      !< b_s/b; 1 for solid gears [-]
-    real(dp), intent(in) :: rim_thickness_ratio  !< s_R/m_n [-]
-    real(dp), intent(in) :: line_load            !< K_A F_t/b [N/mm]
-    real(dp), intent(in) :: contact_ratio        !< eps_alpha [-]
-    real(dp), intent(in) :: face_width           !< b [m]
-    real(dp), intent(out) :: zn1                 !< virtual teeth of gear 1 [-]
-    real(dp), intent(out) :: zn2                 !< virtual teeth of gear 2 (0 when internal) [-]
-    real(dp), intent(out) :: flexibility         !< q' [mm um/N]
-    real(dp), intent(out) :: theoretical         !< c'_th [N/(mm um)]
-    real(dp), intent(out) :: blank_factor        !< C_R [-]
-    real(dp), intent(out) :: rack_factor         !< C_B = (C_B1 + C_B2)/2 [-]
-    real(dp), intent(out) :: load_factor         !< (K_A F_t/b / 100)**0.25 or 1 [-]
-    real(dp), intent(out) :: single              !< c' [N/(mm um)]
-    real(dp), intent(out) :: mesh_alpha          !< c_gamma_alpha [N/(mm um)]
-    real(dp), intent(out) :: mesh_beta           !< c_gamma_beta [N/(mm um)]
-    real(dp), intent(out) :: total_single        !< c' b [N/m]
-    real(dp), intent(out) :: total_alpha         !< c_gamma_alpha b [N/m]
-    real(dp), intent(out) :: total_beta          !< c_gamma_beta b [N/m]
-    integer(ik), intent(out) :: ierr             !< error code (0 = ok)
+  !> for external pairs, -0.5 <= x1 + x2 <= 2).  Factors are zero on error.
+  pure subroutine iso_mesh_stiffness(pair, factors, ierr)
+    type(iso_gear_pair), intent(in) :: pair         !< the gear pair and its load
+    type(iso_stiffness), intent(out) :: factors     !< every factor of the method
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
 
-    zn1 = 0.0_dp
-    zn2 = 0.0_dp
-    flexibility = 0.0_dp
-    theoretical = 0.0_dp
-    blank_factor = 0.0_dp
-    rack_factor = 0.0_dp
-    load_factor = 0.0_dp
-    single = 0.0_dp
-    mesh_alpha = 0.0_dp
-    mesh_beta = 0.0_dp
-    total_single = 0.0_dp
-    total_alpha = 0.0_dp
-    total_beta = 0.0_dp
+    factors = iso_stiffness()
     ierr = iso_ok
 
-    if (.not. (teeth1 >= 1.0_dp .and. teeth2 >= 1.0_dp) .or. (internal /= 0 .and. internal /= 1) &
-        .or. .not. (helix_deg >= 0.0_dp .and. helix_deg < 45.0_dp) &
-        .or. .not. (base_helix_deg >= 0.0_dp .and. base_helix_deg <= helix_deg) &
-        .or. .not. (pressure_angle_deg > 0.0_dp .and. pressure_angle_deg < 45.0_dp) &
-        .or. .not. (dedendum1 > 0.0_dp .and. dedendum2 > 0.0_dp) &
-        .or. .not. (web_width_ratio > 0.0_dp .and. rim_thickness_ratio > 0.0_dp) &
-        .or. .not. (line_load > 0.0_dp) .or. .not. (contact_ratio >= 1.0_dp) &
-        .or. .not. (face_width > 0.0_dp) .or. .not. (abs(shift1) <= 3.0_dp) &
-        .or. .not. (abs(shift2) <= 3.0_dp)) then
-      ierr = iso_err_argument
-      return
-    end if
-    if ((internal == 0 .and. shift1 < shift2) .or. shift1 + shift2 < -0.5_dp &
-        .or. shift1 + shift2 > 2.0_dp) then
-      ierr = iso_err_range
-      return
-    end if
+    associate (p => pair, f => factors)
+      if (.not. (p%teeth1 >= 1.0_dp .and. p%teeth2 >= 1.0_dp) .or. (p%internal /= 0 .and. p%internal /= 1) &
+          .or. .not. (p%helix_deg >= 0.0_dp .and. p%helix_deg < 45.0_dp) &
+          .or. .not. (p%base_helix_deg >= 0.0_dp .and. p%base_helix_deg <= p%helix_deg) &
+          .or. .not. (p%pressure_angle_deg > 0.0_dp .and. p%pressure_angle_deg < 45.0_dp) &
+          .or. .not. (p%dedendum1 > 0.0_dp .and. p%dedendum2 > 0.0_dp) &
+          .or. .not. (p%web_width_ratio > 0.0_dp .and. p%rim_thickness_ratio > 0.0_dp) &
+          .or. .not. (p%line_load > 0.0_dp) .or. .not. (p%contact_ratio >= 1.0_dp) &
+          .or. .not. (p%face_width > 0.0_dp) .or. .not. (abs(p%shift1) <= 3.0_dp) &
+          .or. .not. (abs(p%shift2) <= 3.0_dp)) then
+        ierr = iso_err_argument
+        return
+      end if
+      if ((p%internal == 0 .and. p%shift1 < p%shift2) .or. p%shift1 + p%shift2 < -0.5_dp &
+          .or. p%shift1 + p%shift2 > 2.0_dp) then
+        ierr = iso_err_range
+        return
+      end if
 
-    zn1 = virtual_teeth(teeth1, helix_deg, base_helix_deg)
-    if (internal == 0) zn2 = virtual_teeth(teeth2, helix_deg, base_helix_deg)
-    flexibility = minimum_flexibility(zn1, zn2, shift1, shift2, internal)
-    if (.not. (flexibility > 0.0_dp)) then
-      ierr = iso_err_range
-      return
-    end if
-    theoretical = 1.0_dp / flexibility
-    blank_factor = gear_blank_factor(web_width_ratio, rim_thickness_ratio)
-    rack_factor = 0.5_dp * (basic_rack_factor(dedendum1, pressure_angle_deg) &
-                            + basic_rack_factor(dedendum2, pressure_angle_deg))
-    load_factor = low_load_factor(line_load)
-    single = theoretical * correction_factor_cm * blank_factor * rack_factor &
-             * cos(helix_deg * deg) * load_factor
-    call mesh_stiffness_from_single(single, contact_ratio, mesh_alpha, mesh_beta)
-    total_single = total_stiffness(single, face_width)
-    total_alpha = total_stiffness(mesh_alpha, face_width)
-    total_beta = total_stiffness(mesh_beta, face_width)
+      f%zn1 = virtual_teeth(p%teeth1, p%helix_deg, p%base_helix_deg)
+      if (p%internal == 0) f%zn2 = virtual_teeth(p%teeth2, p%helix_deg, p%base_helix_deg)
+      f%flexibility = minimum_flexibility(f%zn1, f%zn2, p%shift1, p%shift2, p%internal)
+      if (.not. (f%flexibility > 0.0_dp)) then
+        ierr = iso_err_range
+        return
+      end if
+      f%theoretical = 1.0_dp / f%flexibility
+      f%blank_factor = gear_blank_factor(p%web_width_ratio, p%rim_thickness_ratio)
+      f%rack_factor = 0.5_dp * (basic_rack_factor(p%dedendum1, p%pressure_angle_deg) &
+                                + basic_rack_factor(p%dedendum2, p%pressure_angle_deg))
+      f%load_factor = low_load_factor(p%line_load)
+      f%single = f%theoretical * correction_factor_cm * f%blank_factor * f%rack_factor &
+                 * cos(p%helix_deg * deg) * f%load_factor
+      call mesh_stiffness_from_single(f%single, p%contact_ratio, f%mesh_alpha, f%mesh_beta)
+      f%total_single = total_stiffness(f%single, p%face_width)
+      f%total_alpha = total_stiffness(f%mesh_alpha, p%face_width)
+      f%total_beta = total_stiffness(f%mesh_beta, p%face_width)
+    end associate
   end subroutine iso_mesh_stiffness
 
 end module iso6336_stiffness
