@@ -96,11 +96,11 @@ def main() -> None:
     for name, table in study_tables().items():
         theta = states(table, args.states)
         theta_f = np.asfortranarray(theta.T)
-        arguments = table.kernel_arguments()
+        handle = table.handle
 
-        def inside(theta_f=theta_f, arguments=arguments):
+        def inside(theta_f=theta_f, handle=handle):
             elapsed, checksum, ierr = _kernel.contact_table_benchmark(
-                theta_f, *arguments, args.passes
+                handle=handle, theta=theta_f, n_repeat=args.passes
             )
             assert ierr == 0 and checksum > 0
             return elapsed
@@ -114,8 +114,8 @@ def main() -> None:
         raw = (
             min(
                 timeit.repeat(
-                    lambda one=one, arguments=arguments: _kernel.contact_table_evaluate(
-                        one, *arguments
+                    lambda one=one, table=table: _kernel.contact_table_evaluate(
+                        handle=table.handle, max_pairs=table.max_pairs, theta=one
                     ),
                     number=loops,
                     repeat=args.repeats,

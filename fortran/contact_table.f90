@@ -11,21 +11,28 @@
 !> count must be the unwrapped one: i - i0 taken modulo Z1 would restart gear
 !> 2's count every Z1 cycles.  Total: k_m = sum_k k_pair(p_k) d1(i_k) d2(j_k).
 !>
-!> Everything is passed as plain arrays (one entry or column per mesh) so that
-!> the Newmark loop can call evaluate_contact directly; evaluate_contact does
-!> not allocate.  Per-tooth factors of all gears are packed into one array: the
+!> A table is one tooth_contact_table (one entry or column per mesh); the Newmark
+!> loop calls evaluate_contact on it directly, and evaluate_contact does not
+!> allocate.  Per-tooth factors of all gears are packed into one array: the
 !> factors of gear g of mesh m are factor(factor_start(g, m) + 1 : ... + Z_g),
 !> and factor_start = -1 marks a healthy gear (no look-up).  Several meshes may
 !> share one block (a planet's sun and ring meshes share the planet's).
 !> Tabulated single-pair curves are packed the same way into curve.
+!>
+!> Tables that Python uses are checked once and kept here, addressed by a handle
+!> (module handles): create_contact_table, contact_table_at, free_contact_table.
 module contact_table
   use kinds, only: dp, ik
+  use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
   implicit none
   private
 
-  public :: evaluate_contact, check_contact_table, pair_stiffness
+  public :: tooth_contact_table
+  public :: evaluate_contact, evaluate_contact_series, check_contact_table, pair_stiffness
+  public :: create_contact_table, free_contact_table, contact_table_at
   public :: law_parabola, law_tabulated, law_helical
-  public :: ct_ok, ct_err_argument, ct_err_option, ct_err_size, ct_err_state
+  public :: ct_ok, ct_err_argument, ct_err_option, ct_err_size, ct_err_state, ct_err_handle, &
+            ct_err_full
 
   integer(ik), parameter :: law_parabola = 1   !< mean-preserving parabola (PHYSICS.md 5)
   integer(ik), parameter :: law_tabulated = 2  !< tabulated curve, linear interpolation
@@ -36,44 +43,48 @@ module contact_table
   integer(ik), parameter :: ct_err_option = 2    !< an unknown law code
   integer(ik), parameter :: ct_err_size = 3      !< an output array or packed array is too small
   integer(ik), parameter :: ct_err_state = 4     !< a state is not finite or too large
+  integer(ik), parameter :: ct_err_handle = 5    !< not the handle of a live table
+  integer(ik), parameter :: ct_err_full = 6      !< the table registry is full
 
   integer, parameter :: i8 = selected_int_kind(18)         !< unwrapped cycle counts
   real(dp), parameter :: two_pi = 6.283185307179586476925286766559_dp
   real(dp), parameter :: max_cycles = 2.0_dp**50            !< beyond, frac(s) loses its digits
   real(dp), parameter :: mean_tolerance = 1.0e-9_dp         !< unit-mean check of a curve
 
+  !> The tooth-contact table of n_mesh meshes.
+  type :: tooth_contact_table
+    integer(ik) :: n_mesh = 0                        !< number of meshes [-]
+    integer(ik) :: max_pairs = 0                     !< pairs per mesh the outputs hold [-]
+    integer(ik), allocatable :: teeth(:, :)          !< (2, n_mesh) tooth numbers Z1, Z2 [-]
+    integer(ik), allocatable :: cycle_sign(:)        !< +1 or -1: sign of theta in s [-]
+    integer(ik), allocatable :: tooth_offset(:, :)   !< (2, n_mesh) i0, j0: pair entering at s = 0 [-]
+    real(dp), allocatable :: mean_stiffness(:)       !< k-bar, mean over a mesh cycle [N/m]
+    real(dp), allocatable :: contact_ratio(:)        !< epsilon [-]
+    real(dp), allocatable :: end_to_peak(:)          !< lambda (parabola), overlap ratio (helical) [-]
+    real(dp), allocatable :: phase(:)                !< gamma [mesh cycles]
+    integer(ik), allocatable :: law(:)               !< single-pair law code [-]
+    integer(ik), allocatable :: curve_start(:)       !< offset of the mesh's curve in curve [-]
+    integer(ik), allocatable :: curve_size(:)        !< samples of the mesh's curve (tabulated) [-]
+    real(dp), allocatable :: curve(:)                !< packed curves, unit mean over [0, eps] [-]
+    integer(ik), allocatable :: factor_start(:, :)   !< (2, n_mesh) factor offsets; -1 healthy [-]
+    real(dp), allocatable :: factor(:)               !< packed per-tooth factors in [0, 1] [-]
+  end type tooth_contact_table
+
+  type(handle_registry), target :: registry  !< the tables Python holds handles of
+
 contains
 
   !> Mesh stiffness, pairs in contact, their positions and teeth for every mesh
   !> at one state.  No allocation; callable from the time loop.
-  subroutine evaluate_contact(n_mesh, theta, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                              contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                              n_curve, curve, factor_start, n_factor, factor, max_pairs, &
-                              stiffness, n_pairs, n_loaded, position, tooth, ierr)
-    integer(ik), intent(in) :: n_mesh                    !< number of meshes
-    real(dp), intent(in) :: theta(n_mesh)                !< gear 1 rotation relative to the carrier [rad]
-    integer(ik), intent(in) :: teeth(2, n_mesh)          !< tooth numbers Z1, Z2 [-]
-    integer(ik), intent(in) :: cycle_sign(n_mesh)        !< +1 or -1: sign of theta in s [-]
-    integer(ik), intent(in) :: tooth_offset(2, n_mesh)   !< i0, j0: teeth of the pair entering at s = 0 [-]
-    real(dp), intent(in) :: mean_stiffness(n_mesh)       !< k-bar, mean over a mesh cycle [N/m]
-    real(dp), intent(in) :: contact_ratio(n_mesh)        !< epsilon [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda (parabola), overlap ratio (helical) [-]
-    real(dp), intent(in) :: phase(n_mesh)                !< gamma [mesh cycles]
-    integer(ik), intent(in) :: law(n_mesh)               !< single-pair law code [-]
-    integer(ik), intent(in) :: curve_start(n_mesh)       !< offset of the mesh's curve in curve [-]
-    integer(ik), intent(in) :: curve_size(n_mesh)        !< samples of the mesh's curve (tabulated) [-]
-    integer(ik), intent(in) :: n_curve                   !< size of curve [-]
-    real(dp), intent(in) :: curve(n_curve)               !< packed curves, unit mean over [0, eps] [-]
-    integer(ik), intent(in) :: factor_start(2, n_mesh)   !< offsets of gear 1 and 2 factors; -1 healthy [-]
-    integer(ik), intent(in) :: n_factor                  !< size of factor [-]
-    real(dp), intent(in) :: factor(n_factor)             !< packed per-tooth factors in [0, 1] [-]
-    integer(ik), intent(in) :: max_pairs                 !< leading size of position and tooth [-]
-    real(dp), intent(out) :: stiffness(n_mesh)           !< mesh stiffness k_m [N/m]
-    integer(ik), intent(out) :: n_pairs(n_mesh)          !< tooth pairs in contact [-]
-    integer(ik), intent(out) :: n_loaded(n_mesh)         !< pairs with both factors > 0 [-]
-    real(dp), intent(out) :: position(max_pairs, n_mesh) !< p_k, 0 <= p_k < eps [mesh cycles]
-    integer(ik), intent(out) :: tooth(2, max_pairs, n_mesh) !< i_k, j_k (0-based); -1 unused [-]
-    integer(ik), intent(out) :: ierr                     !< error code (0 = ok)
+  subroutine evaluate_contact(table, theta, stiffness, n_pairs, n_loaded, position, tooth, ierr)
+    type(tooth_contact_table), intent(in) :: table                  !< a checked table
+    real(dp), intent(in) :: theta(table%n_mesh)                     !< gear 1 rotation relative to the carrier [rad]
+    real(dp), intent(out) :: stiffness(table%n_mesh)                !< mesh stiffness k_m [N/m]
+    integer(ik), intent(out) :: n_pairs(table%n_mesh)               !< tooth pairs in contact [-]
+    integer(ik), intent(out) :: n_loaded(table%n_mesh)              !< pairs with both factors > 0 [-]
+    real(dp), intent(out) :: position(table%max_pairs, table%n_mesh) !< p_k, 0 <= p_k < eps [mesh cycles]
+    integer(ik), intent(out) :: tooth(2, table%max_pairs, table%n_mesh) !< i_k, j_k (0-based); -1 unused [-]
+    integer(ik), intent(out) :: ierr                                !< error code (0 = ok)
     integer(ik) :: m, k, z1, z2, i, j, c0, c1, f1, f2
     integer(i8) :: count
     real(dp) :: s, whole, p, eps, k_pair, d, total
@@ -84,11 +95,11 @@ contains
     n_loaded = 0
     position = -1.0_dp
     tooth = -1
-    do m = 1, n_mesh
-      z1 = teeth(1, m)
-      z2 = teeth(2, m)
-      eps = contact_ratio(m)
-      s = real(cycle_sign(m), dp) * real(z1, dp) * theta(m) / two_pi + phase(m)
+    do m = 1, table%n_mesh
+      z1 = table%teeth(1, m)
+      z2 = table%teeth(2, m)
+      eps = table%contact_ratio(m)
+      s = real(table%cycle_sign(m), dp) * real(z1, dp) * theta(m) / two_pi + table%phase(m)
       if (.not. (abs(s) < max_cycles)) then
         ierr = ct_err_state
         return
@@ -96,27 +107,27 @@ contains
       whole = floor(s)
       count = int(whole, i8)
       ! teeth of the newest pair (k = 0); older pairs step back one tooth each
-      i = int(modulo(int(tooth_offset(1, m), i8) + count, int(z1, i8)), ik)
-      j = int(modulo(int(tooth_offset(2, m), i8) + count, int(z2, i8)), ik)
-      c0 = curve_start(m) + 1
-      c1 = curve_start(m) + curve_size(m)
-      f1 = factor_start(1, m)
-      f2 = factor_start(2, m)
+      i = int(modulo(int(table%tooth_offset(1, m), i8) + count, int(z1, i8)), ik)
+      j = int(modulo(int(table%tooth_offset(2, m), i8) + count, int(z2, i8)), ik)
+      c0 = table%curve_start(m) + 1
+      c1 = table%curve_start(m) + table%curve_size(m)
+      f1 = table%factor_start(1, m)
+      f2 = table%factor_start(2, m)
       total = 0.0_dp
       p = s - whole
       k = 0
       do while (p < eps)
         k = k + 1
-        if (k > max_pairs) then
+        if (k > table%max_pairs) then
           ierr = ct_err_size
           return
         end if
-        call pair_stiffness(law(m), p, mean_stiffness(m), eps, end_to_peak(m), &
-                            curve(c0:c1), k_pair, ierr)
+        call pair_stiffness(table%law(m), p, table%mean_stiffness(m), eps, table%end_to_peak(m), &
+                            table%curve(c0:c1), k_pair, ierr)
         if (ierr /= ct_ok) return
         d = 1.0_dp
-        if (f1 >= 0) d = factor(f1 + i + 1)
-        if (f2 >= 0) d = d * factor(f2 + j + 1)
+        if (f1 >= 0) d = table%factor(f1 + i + 1)
+        if (f2 >= 0) d = d * table%factor(f2 + j + 1)
         total = total + k_pair * d
         if (d > 0.0_dp) n_loaded(m) = n_loaded(m) + 1
         position(k, m) = p
@@ -132,6 +143,33 @@ contains
       n_pairs(m) = k
     end do
   end subroutine evaluate_contact
+
+  !> evaluate_contact at every state (column) of theta; bad_state names the first state
+  !> that failed, and the columns of the states after it are left as they were.
+  subroutine evaluate_contact_series(table, theta, stiffness, n_pairs, n_loaded, position, tooth, &
+                                     bad_state, ierr)
+    type(tooth_contact_table), intent(in) :: table         !< a checked table
+    real(dp), intent(in), contiguous :: theta(:, :)        !< (n_mesh, states) gear 1 rotations [rad]
+    real(dp), intent(out), contiguous :: stiffness(:, :)   !< (n_mesh, states) k_m [N/m]
+    integer(ik), intent(out), contiguous :: n_pairs(:, :)  !< (n_mesh, states) pairs in contact [-]
+    integer(ik), intent(out), contiguous :: n_loaded(:, :) !< (n_mesh, states) pairs carrying load [-]
+    real(dp), intent(out), contiguous :: position(:, :, :) !< (max_pairs, n_mesh, states) p_k [mesh cycles]
+    integer(ik), intent(out), contiguous :: tooth(:, :, :, :) !< (2, max_pairs, n_mesh, states) i_k, j_k [-]
+    integer(ik), intent(out) :: bad_state                  !< first failing state (1-based), 0 if none [-]
+    integer(ik), intent(out) :: ierr                       !< error code (0 = ok)
+    integer(ik) :: t
+
+    bad_state = 0
+    ierr = ct_ok
+    do t = 1, int(size(theta, 2), ik)
+      call evaluate_contact(table, theta(:, t), stiffness(:, t), n_pairs(:, t), n_loaded(:, t), &
+                            position(:, :, t), tooth(:, :, :, t), ierr)
+      if (ierr /= ct_ok) then
+        bad_state = t
+        return
+      end if
+    end do
+  end subroutine evaluate_contact_series
 
   !> Stiffness of one tooth pair at relative contact position p, by law code.
   !>
@@ -189,83 +227,72 @@ contains
 
   !> Check a contact table once, before it is used in a loop.  bad_mesh names
   !> the first mesh at fault (0 when the error is not tied to one mesh).
-  subroutine check_contact_table(n_mesh, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                                 contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                                 n_curve, curve, factor_start, n_factor, factor, max_pairs, &
-                                 bad_mesh, ierr)
-    integer(ik), intent(in) :: n_mesh                    !< number of meshes
-    integer(ik), intent(in) :: teeth(2, n_mesh)          !< tooth numbers Z1, Z2 [-]
-    integer(ik), intent(in) :: cycle_sign(n_mesh)        !< +1 or -1 [-]
-    integer(ik), intent(in) :: tooth_offset(2, n_mesh)   !< i0, j0 [-]
-    real(dp), intent(in) :: mean_stiffness(n_mesh)       !< k-bar [N/m]
-    real(dp), intent(in) :: contact_ratio(n_mesh)        !< epsilon [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)          !< lambda, or eps_b (helical) [-]
-    real(dp), intent(in) :: phase(n_mesh)                !< gamma [mesh cycles]
-    integer(ik), intent(in) :: law(n_mesh)               !< single-pair law code [-]
-    integer(ik), intent(in) :: curve_start(n_mesh)       !< curve offsets [-]
-    integer(ik), intent(in) :: curve_size(n_mesh)        !< curve sample counts [-]
-    integer(ik), intent(in) :: n_curve                   !< size of curve [-]
-    real(dp), intent(in) :: curve(n_curve)               !< packed curves [-]
-    integer(ik), intent(in) :: factor_start(2, n_mesh)   !< factor offsets, -1 healthy [-]
-    integer(ik), intent(in) :: n_factor                  !< size of factor [-]
-    real(dp), intent(in) :: factor(n_factor)             !< packed per-tooth factors [-]
-    integer(ik), intent(in) :: max_pairs                 !< pairs the output arrays hold [-]
-    integer(ik), intent(out) :: bad_mesh                 !< first mesh at fault, 0 if none [-]
-    integer(ik), intent(out) :: ierr                     !< error code (0 = ok)
-    integer(ik) :: m, g, c0, c1
+  pure subroutine check_contact_table(table, bad_mesh, ierr)
+    type(tooth_contact_table), intent(in) :: table   !< the table to check
+    integer(ik), intent(out) :: bad_mesh             !< first mesh at fault, 0 if none [-]
+    integer(ik), intent(out) :: ierr                 !< error code (0 = ok)
+    integer(ik) :: m, g, c0, c1, f0, f1, n_curve, n_factor
     real(dp) :: trapezoid
 
     ierr = ct_ok
     bad_mesh = 0
-    if (n_mesh < 0 .or. n_curve < 0 .or. n_factor < 0) then
+    if (.not. consistent_sizes(table)) then
       ierr = ct_err_size
       return
     end if
-    do m = 1, n_mesh
+    n_curve = int(size(table%curve), ik)
+    n_factor = int(size(table%factor), ik)
+    do m = 1, table%n_mesh
       bad_mesh = m
-      if (any(teeth(:, m) < 1) .or. abs(cycle_sign(m)) /= 1) ierr = ct_err_argument
-      if (any(tooth_offset(:, m) < 0) .or. any(tooth_offset(:, m) >= teeth(:, m))) ierr = ct_err_argument
-      if (.not. (mean_stiffness(m) > 0.0_dp .and. mean_stiffness(m) <= huge(1.0_dp))) ierr = ct_err_argument
-      if (.not. (contact_ratio(m) > 0.0_dp .and. contact_ratio(m) < 1.0e6_dp)) ierr = ct_err_argument
-      if (.not. (abs(phase(m)) < max_cycles)) ierr = ct_err_argument
+      if (any(table%teeth(:, m) < 1) .or. abs(table%cycle_sign(m)) /= 1) ierr = ct_err_argument
+      if (any(table%tooth_offset(:, m) < 0) .or. any(table%tooth_offset(:, m) >= table%teeth(:, m))) &
+        ierr = ct_err_argument
+      if (.not. (table%mean_stiffness(m) > 0.0_dp .and. table%mean_stiffness(m) <= huge(1.0_dp))) &
+        ierr = ct_err_argument
+      if (.not. (table%contact_ratio(m) > 0.0_dp .and. table%contact_ratio(m) < 1.0e6_dp)) &
+        ierr = ct_err_argument
+      if (.not. (abs(table%phase(m)) < max_cycles)) ierr = ct_err_argument
       if (ierr /= ct_ok) return
-      if (real(max_pairs, dp) < contact_ratio(m)) then
+      if (real(table%max_pairs, dp) < table%contact_ratio(m)) then
         ierr = ct_err_size
         return
       end if
-      select case (law(m))
+      select case (table%law(m))
       case (law_parabola)
-        if (.not. (end_to_peak(m) > 0.0_dp .and. end_to_peak(m) <= 1.0_dp)) ierr = ct_err_argument
+        if (.not. (table%end_to_peak(m) > 0.0_dp .and. table%end_to_peak(m) <= 1.0_dp)) &
+          ierr = ct_err_argument
       case (law_helical)
         ! eps_b in (0, eps): the transverse ratio eps - eps_b stays positive
-        if (.not. (end_to_peak(m) > 0.0_dp .and. end_to_peak(m) < contact_ratio(m))) &
+        if (.not. (table%end_to_peak(m) > 0.0_dp .and. table%end_to_peak(m) < table%contact_ratio(m))) &
           ierr = ct_err_argument
       case (law_tabulated)
-        c0 = curve_start(m) + 1
-        c1 = curve_start(m) + curve_size(m)
-        if (curve_size(m) < 2 .or. curve_start(m) < 0 .or. c1 > n_curve) then
+        c0 = table%curve_start(m) + 1
+        c1 = table%curve_start(m) + table%curve_size(m)
+        if (table%curve_size(m) < 2 .or. table%curve_start(m) < 0 .or. c1 > n_curve) then
           ierr = ct_err_size
           return
         end if
-        if (.not. all(curve(c0:c1) >= 0.0_dp .and. curve(c0:c1) <= huge(1.0_dp))) then
+        if (.not. all(table%curve(c0:c1) >= 0.0_dp .and. table%curve(c0:c1) <= huge(1.0_dp))) then
           ierr = ct_err_argument
           return
         end if
-        trapezoid = (sum(curve(c0:c1)) - 0.5_dp * (curve(c0) + curve(c1))) / real(curve_size(m) - 1, dp)
+        trapezoid = (sum(table%curve(c0:c1)) - 0.5_dp * (table%curve(c0) + table%curve(c1))) &
+                    / real(table%curve_size(m) - 1, dp)
         if (abs(trapezoid - 1.0_dp) > mean_tolerance) ierr = ct_err_argument
       case default
         ierr = ct_err_option
       end select
       if (ierr /= ct_ok) return
       do g = 1, 2
-        if (factor_start(g, m) < -1) ierr = ct_err_argument
-        if (factor_start(g, m) >= 0) then
-          if (factor_start(g, m) + teeth(g, m) > n_factor) then
+        f0 = table%factor_start(g, m)
+        if (f0 < -1) ierr = ct_err_argument
+        if (f0 >= 0) then
+          f1 = f0 + table%teeth(g, m)
+          if (f1 > n_factor) then
             ierr = ct_err_size
             return
           end if
-          if (.not. all(factor(factor_start(g, m) + 1:factor_start(g, m) + teeth(g, m)) >= 0.0_dp &
-                        .and. factor(factor_start(g, m) + 1:factor_start(g, m) + teeth(g, m)) <= 1.0_dp)) &
+          if (.not. all(table%factor(f0 + 1:f1) >= 0.0_dp .and. table%factor(f0 + 1:f1) <= 1.0_dp)) &
             ierr = ct_err_argument
         end if
       end do
@@ -273,4 +300,77 @@ contains
     end do
     bad_mesh = 0
   end subroutine check_contact_table
+
+  !> Every array of the table is allocated with the size its n_mesh gives.
+  pure logical function consistent_sizes(table)
+    type(tooth_contact_table), intent(in) :: table  !< the table to inspect
+    integer(ik) :: n
+
+    n = table%n_mesh
+    consistent_sizes = .false.
+    if (n < 0) return
+    if (.not. (allocated(table%teeth) .and. allocated(table%cycle_sign) .and. &
+               allocated(table%tooth_offset) .and. allocated(table%mean_stiffness) .and. &
+               allocated(table%contact_ratio) .and. allocated(table%end_to_peak) .and. &
+               allocated(table%phase) .and. allocated(table%law) .and. &
+               allocated(table%curve_start) .and. allocated(table%curve_size) .and. &
+               allocated(table%curve) .and. allocated(table%factor_start) .and. &
+               allocated(table%factor))) return
+    if (any(shape(table%teeth) /= [2, n]) .or. any(shape(table%tooth_offset) /= [2, n]) .or. &
+        any(shape(table%factor_start) /= [2, n])) return
+    if (size(table%cycle_sign) /= n .or. size(table%mean_stiffness) /= n .or. &
+        size(table%contact_ratio) /= n .or. size(table%end_to_peak) /= n .or. &
+        size(table%phase) /= n .or. size(table%law) /= n .or. size(table%curve_start) /= n .or. &
+        size(table%curve_size) /= n) return
+    consistent_sizes = .true.
+  end function consistent_sizes
+
+  !> Check a table and keep a copy of it under a new handle.
+  subroutine create_contact_table(table, handle, bad_mesh, ierr)
+    type(tooth_contact_table), intent(in) :: table  !< the table to keep
+    integer(ik), intent(out) :: handle              !< its handle, 0 on error [-]
+    integer(ik), intent(out) :: bad_mesh            !< first mesh at fault, 0 if none [-]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+
+    handle = 0
+    call check_contact_table(table, bad_mesh, ierr)
+    if (ierr /= ct_ok) return
+    call keep_item(registry, table, handle, ierr)
+    if (ierr /= hd_ok) ierr = merge(ct_err_full, ct_err_handle, ierr == hd_err_full)
+  end subroutine create_contact_table
+
+  !> Release a table; its handle is no longer valid.
+  subroutine free_contact_table(handle, ierr)
+    integer(ik), intent(in) :: handle   !< handle from create_contact_table [-]
+    integer(ik), intent(out) :: ierr    !< error code (0 = ok)
+
+    call release_item(registry, handle, ierr)
+    if (ierr /= hd_ok) ierr = ct_err_handle
+  end subroutine free_contact_table
+
+  !> The table a handle names, for as long as no table is created or freed; n_mesh
+  !> (and max_pairs, when given) must be the sizes the caller's arrays have.
+  subroutine contact_table_at(handle, n_mesh, table, ierr, max_pairs)
+    integer(ik), intent(in) :: handle                          !< handle from create_contact_table [-]
+    integer(ik), intent(in) :: n_mesh                          !< meshes the caller expects [-]
+    type(tooth_contact_table), pointer, intent(out) :: table   !< the table, null on error
+    integer(ik), intent(out) :: ierr                           !< error code (0 = ok)
+    integer(ik), intent(in), optional :: max_pairs             !< pairs per mesh the caller holds [-]
+    class(*), pointer :: item
+
+    nullify (table)
+    call find_item(registry, handle, item, ierr)
+    ierr = ct_err_handle
+    if (.not. associated(item)) return
+    select type (item)
+    type is (tooth_contact_table)
+      ierr = ct_err_size
+      if (item%n_mesh /= n_mesh) return
+      if (present(max_pairs)) then
+        if (item%max_pairs /= max_pairs) return
+      end if
+      table => item
+      ierr = ct_ok
+    end select
+  end subroutine contact_table_at
 end module contact_table

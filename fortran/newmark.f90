@@ -37,111 +37,64 @@
 !> output speed switched on at t_s, the first instant the input speed reaches
 !> omega_0 (the paper's eq. 31).  Members are sparse vectors over the DOFs.
 !>
+!> The problem (matrices, settings, meshes, loads) is a transient_problem (module
+!> newmark_problem), created and checked once; newmark_start and newmark_advance take
+!> it with the run's state, which the caller keeps between chunks.
+!>
 !> Errors are returned as codes with the offending DOF, mesh or step; nothing stops.
 module newmark
   use kinds, only: dp, ik
-  use contact_table, only: evaluate_contact, ct_ok
+  use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
+  use newmark_problem, only: transient_problem
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve
   implicit none
   private
 
   public :: newmark_start, newmark_advance
 
-
 contains
 
   !> Factor Khat, compute the initial acceleration from the equation of motion at
   !> t = 0 and the initial mesh and load state.
-  subroutine newmark_start(n, kd, mass_band, damping_band, stiffness_band, rparam, iparam, &
-                           n_mesh, mesh_ptr, n_mesh_nz, mesh_index, mesh_value, angle_ptr, &
-                           n_angle_nz, angle_index, angle_value, mean_stiffness, contact_sign, &
-                           teeth, cycle_sign, tooth_offset, contact_ratio, end_to_peak, phase, law, &
-                           curve_start, curve_size, n_curve, curve, factor_start, n_factor, factor, &
-                           max_pairs, load_ptr, n_load_nz, load_index, load_value, law_kind, &
-                           law_param, law_start, law_size, n_table, law_table, q, v, a, k_used, &
-                           mesh_var, k_factored, khat_band, khat_factor, rstate, istate, bad, ierr)
-    integer(ik), intent(in) :: n                                 !< DOFs [-]
-    integer(ik), intent(in) :: kd                                !< band subdiagonals [-]
-    real(dp), intent(in) :: mass_band(kd + 1, n)                 !< M [kg, kg m^2]
-    real(dp), intent(in) :: damping_band(kd + 1, n)              !< C [N s/m, N m s/rad]
-    real(dp), intent(in) :: stiffness_band(kd + 1, n)            !< K0 [N/m, N m/rad]
-    real(dp), intent(in) :: rparam(10)                           !< real settings (see layout) [SI]
-    integer(ik), intent(in) :: iparam(8)                         !< integer settings (see layout) [-]
-    integer(ik), intent(in) :: n_mesh                            !< meshes [-]
-    integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m in mesh_*(ptr(m)+1 : ptr(m+1)) [-]
-    integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
-    integer(ik), intent(in) :: mesh_index(n_mesh_nz)             !< DOF of each entry (1-based) [-]
-    real(dp), intent(in) :: mesh_value(n_mesh_nz)                !< b entries [m/m, m/rad]
-    integer(ik), intent(in) :: angle_ptr(n_mesh + 1)             !< theta_m weights, as mesh_ptr [-]
-    integer(ik), intent(in) :: n_angle_nz                        !< entries of all weights [-]
-    integer(ik), intent(in) :: angle_index(n_angle_nz)           !< DOF of each weight [-]
-    real(dp), intent(in) :: angle_value(n_angle_nz)              !< weights [rad/rad]
-    real(dp), intent(in) :: mean_stiffness(n_mesh)               !< kbar_m [N/m]
-    integer(ik), intent(in) :: contact_sign(n_mesh)              !< s_m = +1 or -1 [-]
-    integer(ik), intent(in) :: teeth(2, n_mesh)                  !< contact table: Z1, Z2 [-]
-    integer(ik), intent(in) :: cycle_sign(n_mesh)                !< contact table: sigma [-]
-    integer(ik), intent(in) :: tooth_offset(2, n_mesh)           !< contact table: i0, j0 [-]
-    real(dp), intent(in) :: contact_ratio(n_mesh)                !< contact table: eps [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)                  !< contact table: lambda [-]
-    real(dp), intent(in) :: phase(n_mesh)                        !< contact table: gamma [cycles]
-    integer(ik), intent(in) :: law(n_mesh)                       !< contact table: pair law [-]
-    integer(ik), intent(in) :: curve_start(n_mesh)               !< contact table: curve offsets [-]
-    integer(ik), intent(in) :: curve_size(n_mesh)                !< contact table: curve sizes [-]
-    integer(ik), intent(in) :: n_curve                           !< contact table: size of curve [-]
-    real(dp), intent(in) :: curve(n_curve)                       !< contact table: curves [-]
-    integer(ik), intent(in) :: factor_start(2, n_mesh)           !< contact table: factor offsets [-]
-    integer(ik), intent(in) :: n_factor                          !< contact table: size of factor [-]
-    real(dp), intent(in) :: factor(n_factor)                     !< contact table: tooth factors [-]
-    integer(ik), intent(in) :: max_pairs                         !< contact table: pairs per mesh [-]
-    integer(ik), intent(in) :: load_ptr(3)                       !< input (1) and output (2) member vectors [-]
-    integer(ik), intent(in) :: n_load_nz                         !< entries of both [-]
-    integer(ik), intent(in) :: load_index(n_load_nz)             !< DOF of each entry [-]
-    real(dp), intent(in) :: load_value(n_load_nz)                !< member rotation per DOF [rad/rad]
-    integer(ik), intent(in) :: law_kind(2)                       !< drive and load law codes [-]
-    real(dp), intent(in) :: law_param(4, 2)                      !< drive and load law parameters [SI]
-    integer(ik), intent(in) :: law_start(2)                      !< table offsets in law_table [-]
-    integer(ik), intent(in) :: law_size(2)                       !< table samples [-]
-    integer(ik), intent(in) :: n_table                           !< columns of law_table [-]
-    real(dp), intent(in) :: law_table(2, n_table)                !< (time [s], torque [N m]) samples
-    real(dp), intent(in) :: q(n)                                 !< initial displacements [m, rad]
-    real(dp), intent(in) :: v(n)                                 !< initial velocities [m/s, rad/s]
-    real(dp), intent(out) :: a(n)                                !< initial accelerations [m/s^2, rad/s^2]
-    real(dp), intent(out) :: k_used(n_mesh)                      !< mesh stiffness in force [N/m]
-    real(dp), intent(out) :: mesh_var(n_mesh)                    !< (k_m - kbar_m) delta_m [N]
-    real(dp), intent(out) :: k_factored(n_mesh)                  !< stiffness in the factor kf_m [N/m]
-    real(dp), intent(out) :: khat_band(kd + 1, n)                !< Khat at mean stiffness [N/m]
-    real(dp), intent(out) :: khat_factor(kd + 1, n)              !< its Cholesky factor
-    real(dp), intent(out) :: rstate(3)                           !< t_s [s], drive and load torque [N m]
-    integer(ik), intent(out) :: istate(9)                        !< counters (see layout) [-]
-    integer(ik), intent(out) :: bad                              !< offending index for ierr [-]
-    integer(ik), intent(out) :: ierr                             !< error code (0 = ok)
+  subroutine newmark_start(problem, q, v, a, k_used, mesh_var, k_factored, khat_factor, rstate, &
+                           istate, bad, ierr)
+    type(transient_problem), intent(in) :: problem                    !< a checked problem
+    real(dp), intent(in) :: q(problem%n)                              !< initial displacements [m, rad]
+    real(dp), intent(in) :: v(problem%n)                              !< initial velocities [m/s, rad/s]
+    real(dp), intent(out) :: a(problem%n)                             !< initial accelerations [m/s^2, rad/s^2]
+    real(dp), intent(out) :: k_used(problem%n_mesh)                   !< mesh stiffness in force [N/m]
+    real(dp), intent(out) :: mesh_var(problem%n_mesh)                 !< (k_m - kbar_m) delta_m [N]
+    real(dp), intent(out) :: k_factored(problem%n_mesh)               !< stiffness in the factor kf_m [N/m]
+    real(dp), intent(out) :: khat_factor(problem%kd + 1, problem%n)   !< Cholesky factor of Khat [N/m]
+    real(dp), intent(out) :: rstate(n_rstate)                         !< t_s [s], drive and load torque [N m]
+    integer(ik), intent(out) :: istate(n_istate)                      !< counters (see layout) [-]
+    integer(ik), intent(out) :: bad                                   !< offending index for ierr [-]
+    integer(ik), intent(out) :: ierr                                  !< error code (0 = ok)
     real(dp), allocatable :: work(:, :), rhs(:), delta(:)
     real(dp) :: speed
-    integer(ik) :: info, j
+    integer(ik) :: info, j, n, kd, n_mesh
     logical :: on
 
+    n = problem%n
+    kd = problem%kd
+    n_mesh = problem%n_mesh
     a = 0.0_dp
-    k_used = mean_stiffness
+    k_used = problem%mean_stiffness
     mesh_var = 0.0_dp
-    k_factored = mean_stiffness
-    khat_band = 0.0_dp
+    k_factored = problem%mean_stiffness
     khat_factor = 0.0_dp
     rstate = [-1.0_dp, 0.0_dp, 0.0_dp]
     istate = 0
-    call check_settings(n, kd, rparam, iparam, n_mesh, mesh_ptr, n_mesh_nz, mesh_index, &
-                        angle_ptr, n_angle_nz, angle_index, contact_sign, load_ptr, n_load_nz, &
-                        load_index, law_kind, law_param, law_start, law_size, n_table, law_table, &
-                        bad, ierr)
-    if (ierr /= nm_ok) return
+    bad = 0
+    ierr = nm_ok
     if (.not. (all(abs(q) <= huge(1.0_dp)) .and. all(abs(v) <= huge(1.0_dp)))) then
       ierr = nm_err_not_finite
       bad = first_bad(q, v)
       return
     end if
 
-    call effective_band(n, kd, mass_band, damping_band, stiffness_band, rparam, khat_band)
-    khat_factor = khat_band
+    khat_factor = problem%khat_band
     call band_cholesky_factor(n, kd, khat_factor, info)
     if (info /= 0) then
       ierr = nm_err_definite
@@ -150,32 +103,33 @@ contains
     end if
 
     ! loads and mesh state at t = 0
-    speed = member_speed(1, load_ptr, load_index, load_value, v)
-    on = rparam(rp_speed) <= 0.0_dp
-    if (.not. on .and. speed >= rparam(rp_speed)) then
+    speed = member_speed(problem%members, 1, v)
+    on = problem%rparam(rp_speed) <= 0.0_dp
+    if (.not. on .and. speed >= problem%rparam(rp_speed)) then
       on = .true.
       rstate(rs_t_s) = 0.0_dp
     end if
     if (on) istate(is_load_on) = 1
-    rstate(rs_drive) = law_torque(1, 0.0_dp, speed, on)
-    rstate(rs_load) = law_torque(2, 0.0_dp, member_speed(2, load_ptr, load_index, load_value, v), on)
+    rstate(rs_drive) = law_torque(problem%laws, 1, 0.0_dp, speed, on)
+    rstate(rs_load) = law_torque(problem%laws, 2, 0.0_dp, member_speed(problem%members, 2, v), &
+                              on)
 
     allocate (rhs(n), delta(n_mesh), work(kd + 1, n))
     rhs = 0.0_dp
-    call add_member(1, rstate(rs_drive), load_ptr, load_index, load_value, rhs)
-    call add_member(2, -rstate(rs_load), load_ptr, load_index, load_value, rhs)
-    call band_multiply(n, kd, damping_band, v, -1.0_dp, rhs)
-    call band_multiply(n, kd, stiffness_band, q, -1.0_dp, rhs)
-    if (iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
+    call add_member(problem%members, 1, rstate(rs_drive), rhs)
+    call add_member(problem%members, 2, -rstate(rs_load), rhs)
+    call band_multiply(n, kd, problem%damping_band, v, -1.0_dp, rhs)
+    call band_multiply(n, kd, problem%stiffness_band, q, -1.0_dp, rhs)
+    if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
       call mesh_stiffness(q, delta, k_used, ierr)
       if (ierr /= nm_ok) return
-      mesh_var = (k_used - mean_stiffness) * delta
+      mesh_var = (k_used - problem%mean_stiffness) * delta
       do j = 1, n_mesh
-        call add_sparse(j, -mesh_var(j), mesh_ptr, mesh_index, mesh_value, rhs)
+        call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
     end if
-    work = mass_band
+    work = problem%mass_band
     call band_cholesky_factor(n, kd, work, info)
     if (info /= 0) then
       ierr = nm_err_mass
@@ -191,180 +145,128 @@ contains
 
   contains
 
-    real(dp) function law_torque(which, t, member, load_on)
-      integer, intent(in) :: which    !< 1 drive, 2 load
-      real(dp), intent(in) :: t       !< time [s]
-      real(dp), intent(in) :: member  !< member speed [rad/s]
-      logical, intent(in) :: load_on  !< t >= t_s
-      law_torque = torque_law(law_kind(which), law_param(:, which), law_size(which), &
-                              law_table(:, law_start(which) + 1:law_start(which) + law_size(which)), &
-                              t, member, load_on)
-    end function law_torque
-
     subroutine deflections(x, d)
-      real(dp), intent(in) :: x(:)   !< displacements
-      real(dp), intent(out) :: d(:)  !< mesh deflections
+      real(dp), intent(in) :: x(:)   !< displacements [m, rad]
+      real(dp), intent(out) :: d(:)  !< mesh deflections [m]
       integer(ik) :: m
       do m = 1, n_mesh
-        d(m) = sparse_dot(m, mesh_ptr, mesh_index, mesh_value, x)
+        d(m) = sparse_dot(problem%mesh, m, x)
       end do
     end subroutine deflections
 
     subroutine mesh_stiffness(x, d, k, code)
-      real(dp), intent(in) :: x(:)      !< displacements
-      real(dp), intent(in) :: d(:)      !< mesh deflections
-      real(dp), intent(out) :: k(:)     !< mesh stiffness in force
+      real(dp), intent(in) :: x(:)      !< displacements [m, rad]
+      real(dp), intent(in) :: d(:)      !< mesh deflections [m]
+      real(dp), intent(out) :: k(:)     !< mesh stiffness in force [N/m]
       integer(ik), intent(out) :: code  !< error code
-      real(dp) :: theta(n_mesh), pos(max_pairs, n_mesh)
-      integer(ik) :: pairs(n_mesh), loaded(n_mesh), tooth(2, max_pairs, n_mesh), m
+      real(dp) :: theta(problem%n_mesh), pos(problem%table%max_pairs, problem%n_mesh)
+      integer(ik) :: pairs(problem%n_mesh), loaded(problem%n_mesh), m
+      integer(ik) :: tooth(2, problem%table%max_pairs, problem%n_mesh)
       code = nm_ok
-      if (iparam(ip_varying) /= 0) then
+      if (problem%iparam(ip_varying) /= 0) then
         do m = 1, n_mesh
-          theta(m) = sparse_dot(m, angle_ptr, angle_index, angle_value, x)
+          theta(m) = sparse_dot(problem%angle, m, x)
         end do
-        call evaluate_contact(n_mesh, theta, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                              contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                              n_curve, curve, factor_start, n_factor, factor, max_pairs, k, pairs, &
-                              loaded, pos, tooth, code)
+        call evaluate_contact(problem%table, theta, k, pairs, loaded, pos, tooth, code)
         istate(is_contact) = istate(is_contact) + 1
         if (code /= ct_ok) then
           code = nm_err_contact
           return
         end if
       else
-        k = mean_stiffness
+        k = problem%mean_stiffness
       end if
-      if (iparam(ip_separation) /= 0) then
-        where (real(contact_sign, dp) * d <= 0.0_dp) k = 0.0_dp
+      if (problem%iparam(ip_separation) /= 0) then
+        where (real(problem%contact_sign, dp) * d <= 0.0_dp) k = 0.0_dp
       end if
     end subroutine mesh_stiffness
   end subroutine newmark_start
 
   !> Advance n_steps steps from the state (q, v, a) at step istate(1), recording the
-  !> probes every decimation steps (and the state itself when it is step 0).  On an
-  !> error the state is the last good one and istate(1) the last completed step.
-  subroutine newmark_advance(n, kd, mass_band, damping_band, stiffness_band, khat_band, &
-                             khat_factor, rparam, iparam, n_mesh, mesh_ptr, n_mesh_nz, mesh_index, &
-                             mesh_value, angle_ptr, n_angle_nz, angle_index, angle_value, &
-                             mean_stiffness, contact_sign, teeth, cycle_sign, tooth_offset, &
-                             contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                             n_curve, curve, factor_start, n_factor, factor, max_pairs, load_ptr, &
-                             n_load_nz, load_index, load_value, law_kind, law_param, law_start, &
-                             law_size, n_table, law_table, n_probe, probe_kind, probe_ptr, &
-                             n_probe_nz, probe_index, probe_value, n_steps, q, v, a, k_used, &
-                             mesh_var, k_factored, velocity_sum, rstate, istate, max_samples, &
-                             samples, n_samples, bad, ierr)
-    integer(ik), intent(in) :: n                                 !< DOFs [-]
-    integer(ik), intent(in) :: kd                                !< band subdiagonals [-]
-    real(dp), intent(in) :: mass_band(kd + 1, n)                 !< M [kg, kg m^2]
-    real(dp), intent(in) :: damping_band(kd + 1, n)              !< C [N s/m, N m s/rad]
-    real(dp), intent(in) :: stiffness_band(kd + 1, n)            !< K0 [N/m, N m/rad]
-    real(dp), intent(in) :: khat_band(kd + 1, n)                 !< Khat at mean stiffness [N/m]
-    real(dp), intent(inout) :: khat_factor(kd + 1, n)            !< factor of Khat at k_factored
-    real(dp), intent(in) :: rparam(10)                           !< real settings [SI]
-    integer(ik), intent(in) :: iparam(8)                         !< integer settings [-]
-    integer(ik), intent(in) :: n_mesh                            !< meshes [-]
-    integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)              !< b_m pointers [-]
-    integer(ik), intent(in) :: n_mesh_nz                         !< entries of all b_m [-]
-    integer(ik), intent(in) :: mesh_index(n_mesh_nz)             !< DOF of each entry [-]
-    real(dp), intent(in) :: mesh_value(n_mesh_nz)                !< b entries [m/m, m/rad]
-    integer(ik), intent(in) :: angle_ptr(n_mesh + 1)             !< theta_m weight pointers [-]
-    integer(ik), intent(in) :: n_angle_nz                        !< entries of all weights [-]
-    integer(ik), intent(in) :: angle_index(n_angle_nz)           !< DOF of each weight [-]
-    real(dp), intent(in) :: angle_value(n_angle_nz)              !< weights [rad/rad]
-    real(dp), intent(in) :: mean_stiffness(n_mesh)               !< kbar_m [N/m]
-    integer(ik), intent(in) :: contact_sign(n_mesh)              !< s_m [-]
-    integer(ik), intent(in) :: teeth(2, n_mesh)                  !< contact table: Z1, Z2 [-]
-    integer(ik), intent(in) :: cycle_sign(n_mesh)                !< contact table: sigma [-]
-    integer(ik), intent(in) :: tooth_offset(2, n_mesh)           !< contact table: i0, j0 [-]
-    real(dp), intent(in) :: contact_ratio(n_mesh)                !< contact table: eps [-]
-    real(dp), intent(in) :: end_to_peak(n_mesh)                  !< contact table: lambda [-]
-    real(dp), intent(in) :: phase(n_mesh)                        !< contact table: gamma [cycles]
-    integer(ik), intent(in) :: law(n_mesh)                       !< contact table: pair law [-]
-    integer(ik), intent(in) :: curve_start(n_mesh)               !< contact table: curve offsets [-]
-    integer(ik), intent(in) :: curve_size(n_mesh)                !< contact table: curve sizes [-]
-    integer(ik), intent(in) :: n_curve                           !< contact table: size of curve [-]
-    real(dp), intent(in) :: curve(n_curve)                       !< contact table: curves [-]
-    integer(ik), intent(in) :: factor_start(2, n_mesh)           !< contact table: factor offsets [-]
-    integer(ik), intent(in) :: n_factor                          !< contact table: size of factor [-]
-    real(dp), intent(in) :: factor(n_factor)                     !< contact table: tooth factors [-]
-    integer(ik), intent(in) :: max_pairs                         !< contact table: pairs per mesh [-]
-    integer(ik), intent(in) :: load_ptr(3)                       !< input/output member pointers [-]
-    integer(ik), intent(in) :: n_load_nz                         !< entries of both [-]
-    integer(ik), intent(in) :: load_index(n_load_nz)             !< DOF of each entry [-]
-    real(dp), intent(in) :: load_value(n_load_nz)                !< member rotation per DOF [rad/rad]
-    integer(ik), intent(in) :: law_kind(2)                       !< drive and load law codes [-]
-    real(dp), intent(in) :: law_param(4, 2)                      !< law parameters [SI]
-    integer(ik), intent(in) :: law_start(2)                      !< table offsets [-]
-    integer(ik), intent(in) :: law_size(2)                       !< table samples [-]
-    integer(ik), intent(in) :: n_table                           !< columns of law_table [-]
-    real(dp), intent(in) :: law_table(2, n_table)                !< (time [s], torque [N m])
-    integer(ik), intent(in) :: n_probe                           !< probes [-]
-    integer(ik), intent(in) :: probe_kind(n_probe)               !< probe codes [-]
-    integer(ik), intent(in) :: probe_ptr(n_probe + 1)            !< probe weight pointers [-]
-    integer(ik), intent(in) :: n_probe_nz                        !< entries of all weights [-]
-    integer(ik), intent(in) :: probe_index(n_probe_nz)           !< DOF (or mesh) of each entry [-]
-    real(dp), intent(in) :: probe_value(n_probe_nz)              !< weights [channel unit per DOF unit]
-    integer(ik), intent(in) :: n_steps                           !< steps to advance [-]
-    real(dp), intent(inout) :: q(n)                              !< displacements [m, rad]
-    real(dp), intent(inout) :: v(n)                              !< velocities [m/s, rad/s]
-    real(dp), intent(inout) :: a(n)                              !< accelerations [m/s^2, rad/s^2]
-    real(dp), intent(inout) :: k_used(n_mesh)                    !< mesh stiffness in force [N/m]
-    real(dp), intent(inout) :: mesh_var(n_mesh)                  !< (k_m - kbar_m) delta_m [N]
-    real(dp), intent(inout) :: k_factored(n_mesh)                !< stiffness in the factor [N/m]
-    real(dp), intent(inout) :: velocity_sum(n)                   !< sum of v over the window [m/s, rad/s]
-    real(dp), intent(inout) :: rstate(3)                         !< t_s [s], drive, load torque [N m]
-    integer(ik), intent(inout) :: istate(9)                      !< counters (see layout) [-]
-    integer(ik), intent(in) :: max_samples                       !< columns of samples [-]
-    real(dp), intent(inout) :: samples(n_probe, max_samples)     !< recorded channels [channel units]
-    integer(ik), intent(out) :: n_samples                        !< columns written [-]
-    integer(ik), intent(out) :: bad                              !< offending DOF, mesh or index [-]
-    integer(ik), intent(out) :: ierr                             !< error code (0 = ok)
+  !> probes every decimation steps (and the state itself when it is step 0) and
+  !> summing the velocities from step window_first_step on (0: no window).  phase and
+  !> tooth_offset replace the table's (a rebased run shifts them).  On an error the
+  !> state is the last good one and istate(1) the last completed step.
+  subroutine newmark_advance(problem, probe_kind, probes, n_steps, decimation, window_first_step, &
+                             phase, tooth_offset, q, v, a, k_used, mesh_var, k_factored, &
+                             khat_factor, velocity_sum, rstate, istate, samples, n_samples, bad, ierr)
+    type(transient_problem), intent(in) :: problem                    !< a checked problem
+    integer(ik), intent(in) :: probe_kind(:)                          !< probe codes [-]
+    type(sparse_rows), intent(in) :: probes                           !< probe weights (a mesh for mesh kinds) [-]
+    integer(ik), intent(in) :: n_steps                                !< steps to advance [-]
+    integer(ik), intent(in) :: decimation                             !< steps per recorded sample [-]
+    integer(ik), intent(in) :: window_first_step                      !< first step summed into velocity_sum [-]
+    real(dp), intent(in) :: phase(problem%n_mesh)                     !< the table's gamma now [mesh cycles]
+    integer(ik), intent(in) :: tooth_offset(2, problem%n_mesh)        !< the table's i0, j0 now [-]
+    real(dp), intent(inout) :: q(problem%n)                           !< displacements [m, rad]
+    real(dp), intent(inout) :: v(problem%n)                           !< velocities [m/s, rad/s]
+    real(dp), intent(inout) :: a(problem%n)                           !< accelerations [m/s^2, rad/s^2]
+    real(dp), intent(inout) :: k_used(problem%n_mesh)                 !< mesh stiffness in force [N/m]
+    real(dp), intent(inout) :: mesh_var(problem%n_mesh)               !< (k_m - kbar_m) delta_m [N]
+    real(dp), intent(inout) :: k_factored(problem%n_mesh)             !< stiffness in the factor [N/m]
+    real(dp), intent(inout) :: khat_factor(problem%kd + 1, problem%n) !< factor of Khat at k_factored [N/m]
+    real(dp), intent(inout) :: velocity_sum(problem%n)                !< sum of v over the window [m/s, rad/s]
+    real(dp), intent(inout) :: rstate(n_rstate)                       !< t_s [s], drive, load torque [N m]
+    integer(ik), intent(inout) :: istate(n_istate)                    !< counters (see layout) [-]
+    real(dp), intent(inout) :: samples(:, :)                          !< (probes, columns) channels [channel units]
+    integer(ik), intent(out) :: n_samples                             !< columns written [-]
+    integer(ik), intent(out) :: bad                                   !< offending DOF, mesh or index [-]
+    integer(ik), intent(out) :: ierr                                  !< error code (0 = ok)
 
     real(dp), allocatable :: qt(:), vt(:), r0(:), rhs(:), a_new(:), q_new(:), v_new(:), wc(:), wk(:)
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
     real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :)
+    type(tooth_contact_table) :: table
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
-    integer(ik) :: info
+    integer(ik) :: info, n, kd, n_mesh, n_probe, max_samples
     logical :: nonlinear, converged, load_on, restart
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
+    n = problem%n
+    kd = problem%kd
+    n_mesh = problem%n_mesh
+    n_probe = int(size(probe_kind), ik)
+    max_samples = int(size(samples, 2), ik)
     n_samples = 0
     bad = 0
     ierr = nm_ok
-    call check_settings(n, kd, rparam, iparam, n_mesh, mesh_ptr, n_mesh_nz, mesh_index, &
-                        angle_ptr, n_angle_nz, angle_index, contact_sign, load_ptr, n_load_nz, &
-                        load_index, law_kind, law_param, law_start, law_size, n_table, law_table, &
-                        bad, ierr)
-    if (ierr /= nm_ok) return
-    if (n_steps < 0 .or. n_probe < 0 .or. max_samples < 0 .or. probe_ptr(n_probe + 1) > n_probe_nz) then
+    if (n_steps < 0 .or. size(samples, 1) /= n_probe .or. .not. rows_fit(probes, n_probe, 0_ik)) then
       ierr = nm_err_argument
       return
     end if
-    dt = rparam(rp_dt)
-    beta = rparam(rp_beta)
-    gamma = rparam(rp_gamma)
-    alpha_m = rparam(rp_alpha_m)
-    alpha_f = rparam(rp_alpha_f)
-    omega_0 = rparam(rp_speed)
+    if (decimation < 1 .or. window_first_step < 0) then
+      ierr = nm_err_argument
+      return
+    end if
+    if (problem%has_table) then  ! the table at this run's phases
+      table = problem%table
+      table%phase = phase
+      table%tooth_offset = tooth_offset
+    end if
+    dt = problem%rparam(rp_dt)
+    beta = problem%rparam(rp_beta)
+    gamma = problem%rparam(rp_gamma)
+    alpha_m = problem%rparam(rp_alpha_m)
+    alpha_f = problem%rparam(rp_alpha_f)
+    omega_0 = problem%rparam(rp_speed)
     scale_k = 1.0_dp / ((1.0_dp - alpha_f) * beta * dt * dt)
-    mode = iparam(ip_mode)
-    max_iterations = max(iparam(ip_iterations), 1)
+    mode = problem%iparam(ip_mode)
+    max_iterations = max(problem%iparam(ip_iterations), 1)
     nonlinear = mode /= mode_linear .and. n_mesh > 0
     load_on = istate(is_load_on) /= 0
 
     allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), q_new(n), v_new(n), wc(n), wk(n))
     allocate (delta(n_mesh), delta_t(n_mesh), k_eff(n_mesh), k_step(n_mesh), g(n_mesh), g_new(n_mesh))
     allocate (compression(n_mesh))
-    allocate (theta(n_mesh), position(max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
-    allocate (tooth(2, max_pairs, n_mesh))
-    restart = iparam(ip_restart) /= 0 .and. nonlinear .and. iparam(ip_varying) /= 0
+    allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
+    allocate (tooth(2, problem%table%max_pairs, n_mesh))
+    restart = problem%iparam(ip_restart) /= 0 .and. nonlinear .and. problem%iparam(ip_varying) /= 0
     if (restart) then  ! M's factor for the restarts, once per call
       allocate (mass_factor(kd + 1, n))
-      mass_factor = mass_band
+      mass_factor = problem%mass_band
       call band_cholesky_factor(n, kd, mass_factor, info)
       if (info /= 0) then
         ierr = nm_err_definite
@@ -387,26 +289,26 @@ contains
       wc = (1.0_dp - alpha_f) * vt + alpha_f * v
       wk = (1.0_dp - alpha_f) * qt + alpha_f * q
       r0 = 0.0_dp
-      call band_multiply(n, kd, damping_band, wc, -1.0_dp, r0)
-      call band_multiply(n, kd, stiffness_band, wk, -1.0_dp, r0)
-      if (alpha_m /= 0.0_dp) call band_multiply(n, kd, mass_band, a, -alpha_m, r0)
+      call band_multiply(n, kd, problem%damping_band, wc, -1.0_dp, r0)
+      call band_multiply(n, kd, problem%stiffness_band, wk, -1.0_dp, r0)
+      if (alpha_m /= 0.0_dp) call band_multiply(n, kd, problem%mass_band, a, -alpha_m, r0)
       if (alpha_f /= 0.0_dp) then
-        call add_member(1, alpha_f * rstate(rs_drive), load_ptr, load_index, load_value, r0)
-        call add_member(2, -alpha_f * rstate(rs_load), load_ptr, load_index, load_value, r0)
+        call add_member(problem%members, 1, alpha_f * rstate(rs_drive), r0)
+        call add_member(problem%members, 2, -alpha_f * rstate(rs_load), r0)
         if (nonlinear) then
           do m = 1, n_mesh
-            call add_sparse(m, -alpha_f * mesh_var(m), mesh_ptr, mesh_index, mesh_value, r0)
+            call add_sparse(problem%mesh, m, -alpha_f * mesh_var(m), r0)
           end do
         end if
       end if
-      speed_old = member_speed(1, load_ptr, load_index, load_value, v)
+      speed_old = member_speed(problem%members, 1, v)
 
       ! first evaluation at the Newmark predictor (a = 0: q = qt)
       a_new = 0.0_dp
       call evaluate(a_new, .true., drive, load, g)
       if (ierr /= nm_ok) return
       if (restart) then
-        if (any(abs(k_step - k_used) > rparam(rp_refactor) * mean_stiffness)) then
+        if (any(abs(k_step - k_used) > problem%rparam(rp_refactor) * problem%mean_stiffness)) then
           call restart_acceleration()
           if (ierr /= nm_ok) return
           a_new = 0.0_dp
@@ -416,7 +318,7 @@ contains
       end if
       refactors = 0
       if (mode == mode_refactor) then
-        if (any(abs(k_step - k_factored) > rparam(rp_refactor) * mean_stiffness)) then
+        if (any(abs(k_step - k_factored) > problem%rparam(rp_refactor) * problem%mean_stiffness)) then
           call refactor(k_step)
           if (ierr /= nm_ok) return
           call evaluate(a_new, .false., drive, load, g)
@@ -430,11 +332,11 @@ contains
       do
         it = it + 1
         rhs = r0
-        call add_member(1, (1.0_dp - alpha_f) * drive, load_ptr, load_index, load_value, rhs)
-        call add_member(2, -(1.0_dp - alpha_f) * load, load_ptr, load_index, load_value, rhs)
+        call add_member(problem%members, 1, (1.0_dp - alpha_f) * drive, rhs)
+        call add_member(problem%members, 2, -(1.0_dp - alpha_f) * load, rhs)
         if (nonlinear) then
           do m = 1, n_mesh
-            call add_sparse(m, -(1.0_dp - alpha_f) * g(m), mesh_ptr, mesh_index, mesh_value, rhs)
+            call add_sparse(problem%mesh, m, -(1.0_dp - alpha_f) * g(m), rhs)
           end do
         end if
         rhs = scale_k * rhs
@@ -450,20 +352,21 @@ contains
         end if
         call evaluate(a_new, .false., drive_new, load_new, g_new)
         if (ierr /= nm_ok) return
-        force_scale = max(maxval(mean_stiffness * abs(delta)), maxval(mean_stiffness) * pico)
+        force_scale = max(maxval(problem%mean_stiffness * abs(delta)), &
+                          maxval(problem%mean_stiffness) * pico)
         change = maxval(abs(g_new - g))
         worst = int(maxloc(abs(g_new - g), 1), ik)
         torque_change = max(abs(drive_new - drive), abs(load_new - load))
         g = g_new
         drive = drive_new
         load = load_new
-        if (change <= rparam(rp_tolerance) * force_scale .and. torque_change <= &
-            rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp))) then
+        if (change <= problem%rparam(rp_tolerance) * force_scale .and. torque_change <= &
+            problem%rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp))) then
           converged = .true.
           exit
         end if
         if (it >= max_iterations) then
-          if (mode == mode_refactor .and. refactors < iparam(ip_refactors)) then
+          if (mode == mode_refactor .and. refactors < problem%iparam(ip_refactors)) then
             call refactor(k_eff)
             if (ierr /= nm_ok) return
             call evaluate(a_new, .false., drive, load, g)
@@ -485,29 +388,30 @@ contains
       ! accept the step
       q_new = qt + (beta * dt * dt) * a_new
       v_new = vt + (gamma * dt) * a_new
-      if (.not. (maxval(abs(a_new)) <= rparam(rp_acceleration))) then
+      if (.not. (maxval(abs(a_new)) <= problem%rparam(rp_acceleration))) then
         ierr = nm_err_not_finite
         bad = first_bad(a_new, v_new)
         return
       end if
       if (nonlinear) then
         do m = 1, n_mesh
-          delta(m) = delta_t(m) + (beta * dt * dt) * sparse_dot(m, mesh_ptr, mesh_index, mesh_value, a_new)
+          delta(m) = delta_t(m) + (beta * dt * dt) * sparse_dot(problem%mesh, m, a_new)
         end do
         ! an open contact (tooth separation) may gape; only compression runs away
-        if (iparam(ip_separation) /= 0) then
-          compression = max(real(contact_sign, dp) * delta, 0.0_dp)
+        if (problem%iparam(ip_separation) /= 0) then
+          compression = max(real(problem%contact_sign, dp) * delta, 0.0_dp)
         else
           compression = abs(delta)
         end if
-        if (any(compression > rparam(rp_deflection))) then
+        if (any(compression > problem%rparam(rp_deflection))) then
           ierr = nm_err_deflection
           bad = int(maxloc(compression, 1), ik)
           return
         end if
         k_used = k_eff
-        mesh_var = (k_eff - mean_stiffness) * delta
-        istate(is_separated) = istate(is_separated) + count(k_eff == 0.0_dp .and. mean_stiffness > 0.0_dp)
+        mesh_var = (k_eff - problem%mean_stiffness) * delta
+        istate(is_separated) = istate(is_separated) + &
+                               count(k_eff == 0.0_dp .and. problem%mean_stiffness > 0.0_dp)
       end if
       q = q_new
       v = v_new
@@ -518,18 +422,18 @@ contains
 
       ! t_s: the first instant the input speed reaches omega_0 (linear in the step)
       if (omega_0 > 0.0_dp .and. .not. load_on) then
-        speed_new = member_speed(1, load_ptr, load_index, load_value, v)
+        speed_new = member_speed(problem%members, 1, v)
         if (speed_new >= omega_0) then
           load_on = .true.
           istate(is_load_on) = 1
           rstate(rs_t_s) = t_old + dt * (omega_0 - speed_old) / (speed_new - speed_old)
         end if
       end if
-      if (iparam(ip_window) > 0 .and. istate(is_step) >= iparam(ip_window)) then
+      if (window_first_step > 0 .and. istate(is_step) >= window_first_step) then
         velocity_sum = velocity_sum + v
         istate(is_window) = istate(is_window) + 1
       end if
-      if (modulo(istate(is_step), iparam(ip_decimation)) == 0) then
+      if (modulo(istate(is_step), decimation) == 0) then
         call record(q, v, a)
         if (ierr /= nm_ok) return
       end if
@@ -547,10 +451,10 @@ contains
       real(dp) :: delta_n
       rhs = 0.0_dp
       do mm = 1, n_mesh
-        delta_n = sparse_dot(mm, mesh_ptr, mesh_index, mesh_value, q)
-        call add_sparse(mm, -((k_step(mm) - mean_stiffness(mm)) * delta_n - mesh_var(mm)), &
-                        mesh_ptr, mesh_index, mesh_value, rhs)
-        mesh_var(mm) = (k_step(mm) - mean_stiffness(mm)) * delta_n
+        delta_n = sparse_dot(problem%mesh, mm, q)
+        call add_sparse(problem%mesh, mm, &
+                        -((k_step(mm) - problem%mean_stiffness(mm)) * delta_n - mesh_var(mm)), rhs)
+        mesh_var(mm) = (k_step(mm) - problem%mean_stiffness(mm)) * delta_n
       end do
       call band_cholesky_solve(n, kd, mass_factor, rhs, info)
       if (info /= 0) then
@@ -563,8 +467,8 @@ contains
       qt = q + dt * v + (dt * dt * (0.5_dp - beta)) * a
       vt = v + (dt * (1.0_dp - gamma)) * a
       r0 = 0.0_dp  ! alpha_m = alpha_f = 0 (checked)
-      call band_multiply(n, kd, damping_band, vt, -1.0_dp, r0)
-      call band_multiply(n, kd, stiffness_band, qt, -1.0_dp, r0)
+      call band_multiply(n, kd, problem%damping_band, vt, -1.0_dp, r0)
+      call band_multiply(n, kd, problem%stiffness_band, qt, -1.0_dp, r0)
     end subroutine restart_acceleration
 
     !> Loads and lagged mesh loads at the state a step-acceleration x gives.  The
@@ -580,41 +484,34 @@ contains
       integer(ik) :: mm, code
       q_new = qt + (beta * dt * dt) * x
       v_new = vt + (gamma * dt) * x
-      drive_x = torque_law(law_kind(1), law_param(:, 1), law_size(1), &
-                           law_table(:, law_start(1) + 1:law_start(1) + law_size(1)), t_new, &
-                           member_speed(1, load_ptr, load_index, load_value, v_new), load_on)
-      load_x = torque_law(law_kind(2), law_param(:, 2), law_size(2), &
-                          law_table(:, law_start(2) + 1:law_start(2) + law_size(2)), t_new, &
-                          member_speed(2, load_ptr, load_index, load_value, v_new), load_on)
+      drive_x = law_torque(problem%laws, 1, t_new, member_speed(problem%members, 1, v_new), load_on)
+      load_x = law_torque(problem%laws, 2, t_new, member_speed(problem%members, 2, v_new), load_on)
       g_x = 0.0_dp
       if (.not. nonlinear) return
       if (first) then
         do mm = 1, n_mesh
-          delta_t(mm) = sparse_dot(mm, mesh_ptr, mesh_index, mesh_value, qt)
+          delta_t(mm) = sparse_dot(problem%mesh, mm, qt)
         end do
       end if
       ! delta = b.qt + beta dt^2 b.x: iterates differ by exact small increments, not by
       ! the rounding of b.q (q grows with the rotation, delta stays near 1e-8 m)
       do mm = 1, n_mesh
-        delta(mm) = delta_t(mm) + (beta * dt * dt) * sparse_dot(mm, mesh_ptr, mesh_index, mesh_value, x)
+        delta(mm) = delta_t(mm) + (beta * dt * dt) * sparse_dot(problem%mesh, mm, x)
       end do
       if (first) then
-        if (iparam(ip_varying) /= 0) then
+        if (problem%iparam(ip_varying) /= 0) then
           do mm = 1, n_mesh
-            theta(mm) = sparse_dot(mm, angle_ptr, angle_index, angle_value, q_new)
+            theta(mm) = sparse_dot(problem%angle, mm, q_new)
           end do
           if (restart) then
             ! a switch within a millionth of a step of the step's end counts as on it:
             ! the step then sees the old stiffness and the next one restarts with the new
             do mm = 1, n_mesh
               theta(mm) = theta(mm) - landing * (theta(mm) - &
-                          sparse_dot(mm, angle_ptr, angle_index, angle_value, q))
+                          sparse_dot(problem%angle, mm, q))
             end do
           end if
-          call evaluate_contact(n_mesh, theta, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                                contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                                n_curve, curve, factor_start, n_factor, factor, max_pairs, k_step, &
-                                pairs, loaded, position, tooth, code)
+          call evaluate_contact(table, theta, k_step, pairs, loaded, position, tooth, code)
           istate(is_contact) = istate(is_contact) + 1
           if (code /= ct_ok) then
             ierr = nm_err_contact
@@ -622,14 +519,15 @@ contains
             return
           end if
         else
-          k_step = mean_stiffness
+          k_step = problem%mean_stiffness
         end if
       end if
       k_eff = k_step
-      if (iparam(ip_separation) /= 0) then
-        where (real(contact_sign, dp) * delta <= 0.0_dp) k_eff = 0.0_dp
+      if (problem%iparam(ip_separation) /= 0) then
+        where (real(problem%contact_sign, dp) * delta <= 0.0_dp) k_eff = 0.0_dp
       end if
-      g_x = (k_eff - mean_stiffness) * delta - (k_factored - mean_stiffness) * (delta - delta_t)
+      g_x = (k_eff - problem%mean_stiffness) * delta &
+            - (k_factored - problem%mean_stiffness) * (delta - delta_t)
     end subroutine evaluate
 
     !> Refactor Khat with mesh stiffness k_new: the table's at the step start (the
@@ -642,14 +540,14 @@ contains
       refactors = refactors + 1
       istate(is_refactors) = istate(is_refactors) + 1
       k_factored = k_new
-      khat_factor = khat_band
+      khat_factor = problem%khat_band
       do mm = 1, n_mesh
-        do p = mesh_ptr(mm) + 1, mesh_ptr(mm + 1)
-          do r = mesh_ptr(mm) + 1, mesh_ptr(mm + 1)
-            i = mesh_index(r)
-            j = mesh_index(p)
+        do p = problem%mesh%ptr(mm) + 1, problem%mesh%ptr(mm + 1)
+          do r = problem%mesh%ptr(mm) + 1, problem%mesh%ptr(mm + 1)
+            i = problem%mesh%index(r)
+            j = problem%mesh%index(p)
             if (i >= j) khat_factor(i - j + 1, j) = khat_factor(i - j + 1, j) + &
-                (k_factored(mm) - mean_stiffness(mm)) * mesh_value(r) * mesh_value(p)
+                (k_factored(mm) - problem%mean_stiffness(mm)) * problem%mesh%value(r) * problem%mesh%value(p)
           end do
         end do
       end do
@@ -675,18 +573,18 @@ contains
       do p = 1, n_probe
         select case (probe_kind(p))
         case (probe_displacement)
-          samples(p, n_samples) = sparse_dot(p, probe_ptr, probe_index, probe_value, x)
+          samples(p, n_samples) = sparse_dot(probes, p, x)
         case (probe_velocity)
-          samples(p, n_samples) = sparse_dot(p, probe_ptr, probe_index, probe_value, xd)
+          samples(p, n_samples) = sparse_dot(probes, p, xd)
         case (probe_acceleration)
-          samples(p, n_samples) = sparse_dot(p, probe_ptr, probe_index, probe_value, xdd)
+          samples(p, n_samples) = sparse_dot(probes, p, xdd)
         case (probe_mesh_force)
-          mm = probe_index(probe_ptr(p) + 1)
-          d = real(contact_sign(mm), dp) * sparse_dot(mm, mesh_ptr, mesh_index, mesh_value, x)
-          if (iparam(ip_separation) /= 0) d = max(d, 0.0_dp)
+          mm = probes%index(probes%ptr(p) + 1)
+          d = real(problem%contact_sign(mm), dp) * sparse_dot(problem%mesh, mm, x)
+          if (problem%iparam(ip_separation) /= 0) d = max(d, 0.0_dp)
           samples(p, n_samples) = k_used(mm) * d
         case (probe_mesh_stiffness)
-          samples(p, n_samples) = k_used(probe_index(probe_ptr(p) + 1))
+          samples(p, n_samples) = k_used(probes%index(probes%ptr(p) + 1))
         case (probe_drive_torque)
           samples(p, n_samples) = rstate(rs_drive)
         case (probe_load_torque)

@@ -1,23 +1,25 @@
 !> Building blocks of the Newmark kernel (module newmark): option and error codes,
-!> the layouts of the settings and state arrays, symmetric band products, sparse
-!> member and mesh vectors, torque laws and the check of every setting.
+!> the layouts of the settings and state arrays, symmetric band products, packed
+!> sparse vectors (meshes, members, probes) and the drive and load torque laws.
 module newmark_support
   use kinds, only: dp, ik
   implicit none
   private
 
-  public :: band_multiply, effective_band, torque_law, check_settings
-  public :: sparse_dot, add_sparse, member_speed, add_member, first_bad
+  public :: sparse_rows, torque_laws
+  public :: band_multiply, effective_band, torque_law, law_torque, check_laws
+  public :: sparse_dot, add_sparse, member_speed, add_member, rows_fit, first_bad
   public :: mode_linear, mode_predictor, mode_iterate, mode_refactor
   public :: law_none, law_constant, law_ramp, law_table, law_speed_power
   public :: probe_displacement, probe_velocity, probe_acceleration, probe_mesh_force, &
             probe_mesh_stiffness, probe_drive_torque, probe_load_torque
   public :: nm_ok, nm_err_argument, nm_err_definite, nm_err_mass, nm_err_not_finite, &
-            nm_err_deflection, nm_err_convergence, nm_err_contact, nm_err_size, nm_err_solve
+            nm_err_deflection, nm_err_convergence, nm_err_contact, nm_err_size, nm_err_solve, &
+            nm_err_handle, nm_err_full
   public :: rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, rp_tolerance, rp_refactor, &
             rp_deflection, rp_speed, rp_acceleration
-  public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_decimation, ip_window, &
-            ip_refactors, ip_restart
+  public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart
+  public :: n_rparam, n_iparam, n_rstate, n_istate
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
             is_separated, is_contact, is_restarts
   public :: rs_t_s, rs_drive, rs_load, pico
@@ -55,15 +57,17 @@ module newmark_support
   integer(ik), parameter :: nm_err_contact = 7      !< the tooth-contact table failed
   integer(ik), parameter :: nm_err_size = 8         !< the sample buffer is too small
   integer(ik), parameter :: nm_err_solve = 9        !< dpbtrs failed
+  integer(ik), parameter :: nm_err_handle = 10      !< not the handle of a live problem or contact table
+  integer(ik), parameter :: nm_err_full = 11        !< the problem registry is full
 
   ! rparam layout
   integer, parameter :: rp_dt = 1, rp_beta = 2, rp_gamma = 3, rp_alpha_m = 4, rp_alpha_f = 5, &
                         rp_tolerance = 6, rp_refactor = 7, rp_deflection = 8, rp_speed = 9, &
                         rp_acceleration = 10
-  ! iparam layout
+  ! iparam layout (a run's decimation and averaging window are arguments of its advance)
   integer, parameter :: ip_mode = 1, ip_iterations = 2, ip_varying = 3, ip_separation = 4, &
-                        ip_decimation = 5, ip_window = 6, ip_refactors = 7, &
-                        ip_restart = 8  ! restart a at mesh-stiffness jumps (0/1)
+                        ip_refactors = 5, &
+                        ip_restart = 6  ! restart a at mesh-stiffness jumps (0/1)
   ! istate layout
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
                         is_max_iterations = 5, is_window = 6, is_separated = 7, &
@@ -71,8 +75,27 @@ module newmark_support
                         is_restarts = 9    ! acceleration restarts at stiffness jumps
   ! rstate layout
   integer, parameter :: rs_t_s = 1, rs_drive = 2, rs_load = 3
+  ! sizes of the four arrays above
+  integer(ik), parameter :: n_rparam = 10, n_iparam = 6, n_istate = 9, n_rstate = 3
 
   real(dp), parameter :: pico = 1.0e-12_dp  !< deflection floor of the convergence scale [m]
+
+  !> Rows of sparse vectors over the DOFs, packed: row r holds value(ptr(r)+1 : ptr(r+1))
+  !> at the DOFs index(ptr(r)+1 : ptr(r+1)).
+  type :: sparse_rows
+    integer(ik), allocatable :: ptr(:)    !< (rows + 1) row pointers, ptr(1) = 0 [-]
+    integer(ik), allocatable :: index(:)  !< DOF (1-based) of each entry; a mesh for mesh probes [-]
+    real(dp), allocatable :: value(:)     !< entries [row unit per DOF unit]
+  end type sparse_rows
+
+  !> The drive law (1) and the load law (2): codes, parameters, (time, torque) tables.
+  type :: torque_laws
+    integer(ik) :: code(2) = law_none          !< law codes [-]
+    real(dp) :: param(4, 2) = 0.0_dp           !< law parameters [N m, s, s or rad/s, -]
+    integer(ik) :: table_start(2) = 0          !< offsets of each law's samples in table [-]
+    integer(ik) :: table_size(2) = 0           !< samples of each law [-]
+    real(dp), allocatable :: table(:, :)       !< (2, columns) time [s], torque [N m]
+  end type torque_laws
 
 contains
 
@@ -149,7 +172,7 @@ contains
     real(dp), intent(in) :: mass_band(kd + 1, n)        !< M [kg]
     real(dp), intent(in) :: damping_band(kd + 1, n)     !< C [N s/m]
     real(dp), intent(in) :: stiffness_band(kd + 1, n)   !< K0 [N/m]
-    real(dp), intent(in) :: rparam(10)                  !< settings [SI]
+    real(dp), intent(in) :: rparam(n_rparam)            !< settings [SI]
     real(dp), intent(out) :: khat(kd + 1, n)            !< Khat [N/m]
     real(dp) :: dt, beta
 
@@ -160,152 +183,105 @@ contains
            + rparam(rp_gamma) / (beta * dt) * damping_band
   end subroutine effective_band
 
-  !> Check sizes, indices and settings once per call; bad names the first wrong entry
-  !> (rparam index, iparam index + 100, or a law-table column + 1000).
-  pure subroutine check_settings(n, kd, rparam, iparam, n_mesh, mesh_ptr, n_mesh_nz, mesh_index, &
-                                 angle_ptr, n_angle_nz, angle_index, contact_sign, load_ptr, &
-                                 n_load_nz, load_index, law_kind, law_param, law_start, law_size, &
-                                 n_table, law_table, bad, ierr)
-    integer(ik), intent(in) :: n, kd                     !< DOFs, subdiagonals [-]
-    real(dp), intent(in) :: rparam(10)                   !< real settings [SI]
-    integer(ik), intent(in) :: iparam(8)                 !< integer settings [-]
-    integer(ik), intent(in) :: n_mesh                    !< meshes [-]
-    integer(ik), intent(in) :: mesh_ptr(n_mesh + 1)      !< b pointers [-]
-    integer(ik), intent(in) :: n_mesh_nz                 !< b entries [-]
-    integer(ik), intent(in) :: mesh_index(n_mesh_nz)     !< b DOFs [-]
-    integer(ik), intent(in) :: angle_ptr(n_mesh + 1)     !< angle pointers [-]
-    integer(ik), intent(in) :: n_angle_nz                !< angle entries [-]
-    integer(ik), intent(in) :: angle_index(n_angle_nz)   !< angle DOFs [-]
-    integer(ik), intent(in) :: contact_sign(n_mesh)      !< contact signs [-]
-    integer(ik), intent(in) :: load_ptr(3)               !< member pointers [-]
-    integer(ik), intent(in) :: n_load_nz                 !< member entries [-]
-    integer(ik), intent(in) :: load_index(n_load_nz)     !< member DOFs [-]
-    integer(ik), intent(in) :: law_kind(2)               !< law codes [-]
-    real(dp), intent(in) :: law_param(4, 2)              !< law parameters [SI]
-    integer(ik), intent(in) :: law_start(2), law_size(2) !< law tables [-]
-    integer(ik), intent(in) :: n_table                   !< table columns [-]
-    real(dp), intent(in) :: law_table(2, n_table)        !< law tables [s, N m]
-    integer(ik), intent(out) :: bad                      !< first wrong entry [-]
-    integer(ik), intent(out) :: ierr                     !< error code
+  !> w . x for row row of a packed set of sparse vectors.
+  pure real(dp) function sparse_dot(rows, row, x)
+    type(sparse_rows), intent(in) :: rows  !< the packed set
+    integer(ik), intent(in) :: row         !< row (1-based) [-]
+    real(dp), intent(in) :: x(:)           !< vector over the DOFs [DOF units]
+    integer(ik) :: k
+    sparse_dot = 0.0_dp
+    do k = rows%ptr(row) + 1, rows%ptr(row + 1)
+      sparse_dot = sparse_dot + rows%value(k) * x(rows%index(k))
+    end do
+  end function sparse_dot
+
+  !> y = y + s w for row row of a packed set of sparse vectors.
+  pure subroutine add_sparse(rows, row, s, y)
+    type(sparse_rows), intent(in) :: rows  !< the packed set
+    integer(ik), intent(in) :: row         !< row (1-based) [-]
+    real(dp), intent(in) :: s              !< scale [units of y per row unit]
+    real(dp), intent(inout) :: y(:)        !< accumulator over the DOFs [units of y]
+    integer(ik) :: k
+    do k = rows%ptr(row) + 1, rows%ptr(row + 1)
+      y(rows%index(k)) = y(rows%index(k)) + s * rows%value(k)
+    end do
+  end subroutine add_sparse
+
+  !> Speed of member 1 (input) or 2 (output) [rad/s].
+  pure real(dp) function member_speed(members, which, x)
+    type(sparse_rows), intent(in) :: members  !< input and output member rotations per DOF
+    integer, intent(in) :: which              !< 1 input, 2 output [-]
+    real(dp), intent(in) :: x(:)              !< velocities [m/s, rad/s]
+    member_speed = sparse_dot(members, int(which, ik), x)
+  end function member_speed
+
+  !> y = y + torque w_member (generalized force of a torque on a member).
+  pure subroutine add_member(members, which, torque, y)
+    type(sparse_rows), intent(in) :: members  !< input and output member rotations per DOF
+    integer, intent(in) :: which              !< 1 input, 2 output [-]
+    real(dp), intent(in) :: torque            !< torque [N m]
+    real(dp), intent(inout) :: y(:)           !< generalized forces [N, N m]
+    call add_sparse(members, int(which, ik), torque, y)
+  end subroutine add_member
+
+  !> Whether rows is a packed set of n_rows rows over DOFs 1 .. n (n = 0: any index).
+  pure logical function rows_fit(rows, n_rows, n)
+    type(sparse_rows), intent(in) :: rows  !< the packed set
+    integer(ik), intent(in) :: n_rows      !< rows it must hold [-]
+    integer(ik), intent(in) :: n           !< DOFs the indices lie in, 0 for no check [-]
+    integer(ik) :: last
+
+    rows_fit = .false.
+    if (.not. (allocated(rows%ptr) .and. allocated(rows%index) .and. allocated(rows%value))) return
+    if (size(rows%ptr) /= n_rows + 1 .or. size(rows%value) /= size(rows%index)) return
+    if (rows%ptr(1) /= 0 .or. rows%ptr(n_rows + 1) > size(rows%index)) return
+    last = rows%ptr(n_rows + 1)
+    if (n > 0) then
+      if (any(rows%index(1:last) < 1 .or. rows%index(1:last) > n)) return
+    end if
+    rows_fit = .true.
+  end function rows_fit
+
+  !> Torque of law which (1 drive, 2 load) of a pair of laws [N m].
+  pure real(dp) function law_torque(laws, which, t, speed, load_on)
+    type(torque_laws), intent(in) :: laws  !< the drive and load laws
+    integer, intent(in) :: which           !< 1 drive, 2 load [-]
+    real(dp), intent(in) :: t              !< time [s]
+    real(dp), intent(in) :: speed          !< member speed [rad/s]
+    logical, intent(in) :: load_on         !< t >= t_s [-]
+    law_torque = torque_law(laws%code(which), laws%param(:, which), laws%table_size(which), &
+                            laws%table(:, laws%table_start(which) + 1:laws%table_start(which) &
+                                                                       + laws%table_size(which)), &
+                            t, speed, load_on)
+  end function law_torque
+
+  !> Check that the laws are known codes with valid parameters and increasing table
+  !> times; bad names a table column + 1000 that is out of order, else 0.
+  pure subroutine check_laws(laws, bad, ierr)
+    type(torque_laws), intent(in) :: laws  !< the drive and load laws
+    integer(ik), intent(out) :: bad        !< first table column out of order + 1000, else 0 [-]
+    integer(ik), intent(out) :: ierr       !< error code (0 = ok)
     integer(ik) :: l, c
 
     ierr = nm_err_argument
     bad = 0
-    if (n < 1 .or. kd < 0 .or. kd > n - 1 .or. n_mesh < 0) return
-    if (.not. (rparam(rp_dt) > 0.0_dp .and. rparam(rp_dt) < huge(1.0_dp))) then
-      bad = rp_dt
-      return
-    end if
-    if (.not. (rparam(rp_beta) > 0.0_dp)) then
-      bad = rp_beta
-      return
-    end if
-    if (.not. (rparam(rp_gamma) >= 0.0_dp)) then
-      bad = rp_gamma
-      return
-    end if
-    if (.not. (rparam(rp_alpha_m) < 1.0_dp)) then
-      bad = rp_alpha_m
-      return
-    end if
-    if (.not. (rparam(rp_alpha_f) >= 0.0_dp .and. rparam(rp_alpha_f) < 1.0_dp)) then
-      bad = rp_alpha_f
-      return
-    end if
-    if (.not. (rparam(rp_tolerance) > 0.0_dp)) then
-      bad = rp_tolerance
-      return
-    end if
-    if (.not. (rparam(rp_deflection) > 0.0_dp)) then
-      bad = rp_deflection
-      return
-    end if
-    if (iparam(ip_mode) < mode_linear .or. iparam(ip_mode) > mode_refactor) then
-      bad = 100 + ip_mode
-      return
-    end if
-    if (iparam(ip_decimation) < 1) then
-      bad = 100 + ip_decimation
-      return
-    end if
-    ! a restart solves the equation of motion at a step instant: average acceleration
-    ! only (alpha_m = alpha_f = 0), and not with tooth separation (its zero stiffness
-    ! is a contact state, not a table jump)
-    if (iparam(ip_restart) < 0 .or. iparam(ip_restart) > 1 .or. (iparam(ip_restart) == 1 .and. &
-        (rparam(rp_alpha_m) /= 0.0_dp .or. rparam(rp_alpha_f) /= 0.0_dp .or. &
-         iparam(ip_separation) /= 0))) then
-      bad = 100 + ip_restart
-      return
-    end if
-    if (mesh_ptr(1) /= 0 .or. mesh_ptr(n_mesh + 1) > n_mesh_nz .or. angle_ptr(1) /= 0 .or. &
-        angle_ptr(n_mesh + 1) > n_angle_nz .or. load_ptr(1) /= 0 .or. load_ptr(3) > n_load_nz) return
-    if (any(mesh_index(1:mesh_ptr(n_mesh + 1)) < 1 .or. mesh_index(1:mesh_ptr(n_mesh + 1)) > n)) return
-    if (any(angle_index(1:angle_ptr(n_mesh + 1)) < 1 .or. angle_index(1:angle_ptr(n_mesh + 1)) > n)) return
-    if (any(load_index(1:load_ptr(3)) < 1 .or. load_index(1:load_ptr(3)) > n)) return
-    if (any(abs(contact_sign) /= 1)) return
+    if (.not. allocated(laws%table)) return
+    if (size(laws%table, 1) /= 2) return
     do l = 1, 2
-      if (law_kind(l) < law_none .or. law_kind(l) > law_speed_power) return
-      if (law_kind(l) == law_ramp .and. .not. (law_param(3, l) > 0.0_dp)) return
-      if (law_kind(l) == law_speed_power .and. .not. (law_param(2, l) > 0.0_dp)) return
-      if (law_start(l) < 0 .or. law_size(l) < 0 .or. law_start(l) + law_size(l) > n_table) return
-      do c = law_start(l) + 2, law_start(l) + law_size(l)
-        if (.not. (law_table(1, c) > law_table(1, c - 1))) then
+      if (laws%code(l) < law_none .or. laws%code(l) > law_speed_power) return
+      if (laws%code(l) == law_ramp .and. .not. (laws%param(3, l) > 0.0_dp)) return
+      if (laws%code(l) == law_speed_power .and. .not. (laws%param(2, l) > 0.0_dp)) return
+      if (laws%table_start(l) < 0 .or. laws%table_size(l) < 0 .or. &
+          laws%table_start(l) + laws%table_size(l) > size(laws%table, 2)) return
+      do c = laws%table_start(l) + 2, laws%table_start(l) + laws%table_size(l)
+        if (.not. (laws%table(1, c) > laws%table(1, c - 1))) then
           bad = 1000 + c
           return
         end if
       end do
     end do
     ierr = nm_ok
-  end subroutine check_settings
-
-  !> w . x for sparse vector row of a packed set.
-  pure real(dp) function sparse_dot(row, ptr, index, value, x)
-    integer(ik), intent(in) :: row         !< row (1-based) [-]
-    integer(ik), intent(in) :: ptr(:)      !< row pointers [-]
-    integer(ik), intent(in) :: index(:)    !< column of each entry [-]
-    real(dp), intent(in) :: value(:)       !< entries [-]
-    real(dp), intent(in) :: x(:)           !< vector [-]
-    integer(ik) :: k
-    sparse_dot = 0.0_dp
-    do k = ptr(row) + 1, ptr(row + 1)
-      sparse_dot = sparse_dot + value(k) * x(index(k))
-    end do
-  end function sparse_dot
-
-  !> y = y + s w for a sparse vector row of a packed set.
-  pure subroutine add_sparse(row, s, ptr, index, value, y)
-    integer(ik), intent(in) :: row         !< row (1-based) [-]
-    real(dp), intent(in) :: s              !< scale [-]
-    integer(ik), intent(in) :: ptr(:)      !< row pointers [-]
-    integer(ik), intent(in) :: index(:)    !< column of each entry [-]
-    real(dp), intent(in) :: value(:)       !< entries [-]
-    real(dp), intent(inout) :: y(:)        !< accumulator [-]
-    integer(ik) :: k
-    do k = ptr(row) + 1, ptr(row + 1)
-      y(index(k)) = y(index(k)) + s * value(k)
-    end do
-  end subroutine add_sparse
-
-  !> Speed of member 1 (input) or 2 (output) [rad/s].
-  pure real(dp) function member_speed(which, ptr, index, value, x)
-    integer, intent(in) :: which           !< 1 input, 2 output [-]
-    integer(ik), intent(in) :: ptr(3)      !< member pointers [-]
-    integer(ik), intent(in) :: index(:)    !< DOFs [-]
-    real(dp), intent(in) :: value(:)       !< rotation per DOF [-]
-    real(dp), intent(in) :: x(:)           !< velocities [rad/s]
-    member_speed = sparse_dot(int(which, ik), ptr, index, value, x)
-  end function member_speed
-
-  !> y = y + torque w_member (generalized force of a torque on a member).
-  pure subroutine add_member(which, torque, ptr, index, value, y)
-    integer, intent(in) :: which           !< 1 input, 2 output [-]
-    real(dp), intent(in) :: torque         !< torque [N m]
-    integer(ik), intent(in) :: ptr(3)      !< member pointers [-]
-    integer(ik), intent(in) :: index(:)    !< DOFs [-]
-    real(dp), intent(in) :: value(:)       !< rotation per DOF [-]
-    real(dp), intent(inout) :: y(:)        !< generalized forces [N, N m]
-    call add_sparse(int(which, ik), torque, ptr, index, value, y)
-  end subroutine add_member
+  end subroutine check_laws
 
   !> The first DOF whose entry of x or y is not finite, else the largest |x|.
   pure integer(ik) function first_bad(x, y)

@@ -215,11 +215,16 @@ def test_tabulated_curve_reproduces_mesh_in_contact_table():
         np.ones(1),
         4,
     )
-    assert _kernel.contact_table_check(*args)[1] == 0
-    for s, expected in zip(result.cycle_position, result.mesh):
-        theta = np.array([2 * math.pi * s / 19])
-        stiffness = _kernel.contact_table_evaluate(theta, *args)[0]
-        assert stiffness[0] == pytest.approx(expected, rel=1e-6)  # interpolation of 2001 samples
+    handle, _, ierr = _kernel.contact_table_create(*args)
+    assert ierr == 0
+    try:
+        for s, expected in zip(result.cycle_position, result.mesh):
+            theta = np.array([2 * math.pi * s / 19])
+            stiffness = _kernel.contact_table_evaluate(handle=handle, max_pairs=4, theta=theta)[0]
+            # interpolation of 2001 samples
+            assert stiffness[0] == pytest.approx(expected, rel=1e-6)
+    finally:
+        _kernel.contact_table_free(handle)
 
 
 @pytest.mark.parametrize("n_quad", [4, 8, 16, 24])

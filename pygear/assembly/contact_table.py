@@ -2,7 +2,8 @@
 
 :func:`build_contact_table` turns a case (meshes, phasing, single-pair laws,
 defects) into the flat arrays of the Fortran module ``contact_table``, which
-evaluates every mesh at a state (PHYSICS.md 5).  The constant-speed evaluation is
+checks them once, keeps them under a handle and evaluates every mesh at a state
+(PHYSICS.md 5).  The constant-speed evaluation is
 :func:`pygear.analysis.mesh_stiffness.mesh_stiffness_at_constant_speed`.
 
 Each mesh's gear 1 is the central member (sun or ring) and gear 2 the planet;
@@ -12,19 +13,25 @@ tooth numbering and phases are derived in :mod:`pygear.assembly.mesh_phasing`.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import CaseError
 from ..kernel import _kernel
 from ..kernel.calls import KernelError
-from ..model.case import Case, Scene, merged_defects, validate_defects
+from ..model.case import Case, merged_defects, validate_defects
 from ..model.components import PlanetaryStage, ToothDefect
 from ..model.gearbox import ParallelStage
+from ..model.scene_settings import SceneSettings, scene_settings
 from .dof_rows import dof_row, rigid_rotation
 from .matrices import Model
 from .mesh_phasing import stage_phasing
+
+if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
+    from ..model.case import Scene
 
 __all__ = ["LAW_CODES", "ContactTable", "build_contact_table"]
 
@@ -36,6 +43,8 @@ _ERRORS = {
     2: "an unknown single-pair law code",
     3: "an array is too small for the contact ratio or the packed data",
     4: "a state is not finite or lies beyond 2**50 mesh cycles",
+    5: "the table's kernel handle is not live",
+    6: "the kernel holds too many tables (65535)",
 }
 
 
@@ -91,7 +100,7 @@ class ContactTable:
         return len(self.names)
 
     def kernel_arguments(self) -> tuple:
-        """The table arguments of the ``contact_table_*`` kernel routines, in order."""
+        """The table's arrays in the order ``contact_table_create`` takes them."""
         return (
             self.teeth,
             self.cycle_sign,
@@ -108,6 +117,38 @@ class ContactTable:
             self.factor,
             self.max_pairs,
         )
+
+    @property
+    def handle(self) -> int:
+        """The kernel's handle of this table, created (and the table checked) on first use.
+
+        The kernel keeps a copy of the arrays until this object is garbage collected.
+        Copies and pickles of the table leave the handle behind and get their own.
+
+        Raises
+        ------
+        KernelError
+            The kernel's check failed; the message names the mesh at fault.
+        """
+        handle = self.__dict__.get("_handle")
+        if handle is None:
+            handle, bad, ierr = _kernel.contact_table_create(*self.kernel_arguments())
+            if ierr:
+                where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
+                raise KernelError(
+                    f"kernel routine contact_table_create: "
+                    f"{_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
+                )
+            handle = int(handle)
+            object.__setattr__(self, "_handle", handle)
+            weakref.finalize(self, _kernel.contact_table_free, handle).atexit = False
+        return handle
+
+    def __getstate__(self) -> dict:
+        """The fields without the kernel handle, which is valid only in this process."""
+        state = dict(self.__dict__)
+        state.pop("_handle", None)
+        return state
 
     def mesh_cycle(self, theta: np.ndarray) -> np.ndarray:
         """s = sigma Z1 theta / 2 pi + gamma for relative angles ``theta`` (..., n_mesh)."""
@@ -130,7 +171,7 @@ class ContactTable:
         """
         theta = np.ascontiguousarray(theta, dtype=np.float64)
         stiffness, pairs, loaded, position, tooth, ierr = _kernel.contact_table_evaluate(
-            theta, *self.kernel_arguments()
+            handle=self.handle, max_pairs=self.max_pairs, theta=theta
         )
         self._raise(ierr, "contact_table_evaluate")
         return {
@@ -157,7 +198,7 @@ class ContactTable:
         """
         theta = np.asarray(theta, dtype=np.float64)
         stiffness, pairs, loaded, position, tooth, bad, ierr = _kernel.contact_table_series(
-            np.asfortranarray(theta.T), *self.kernel_arguments()
+            handle=self.handle, max_pairs=self.max_pairs, theta=np.asfortranarray(theta.T)
         )
         self._raise(ierr, "contact_table_series", state=int(bad))
         return {
@@ -170,14 +211,9 @@ class ContactTable:
         }
 
     def check(self) -> None:
-        """Run the kernel's table check; raise :class:`KernelError` naming the mesh at fault."""
-        bad, ierr = _kernel.contact_table_check(*self.kernel_arguments())
-        if ierr:
-            where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
-            raise KernelError(
-                f"kernel routine contact_table_check: "
-                f"{_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
-            )
+        """Hand the table to the kernel, which checks it; raise :class:`KernelError` naming
+        the mesh at fault."""
+        self.handle  # noqa: B018 (created and checked on first access)
 
     def _raise(self, ierr: int, routine: str, state: int = 0) -> None:
         if ierr:
@@ -197,7 +233,7 @@ def _normalised_curve(curve: tuple[float, ...]) -> np.ndarray:
 def build_contact_table(
     case: Case,
     model: Model,
-    scene: Scene | None = None,
+    scene: Scene | SceneSettings | None = None,
     *,
     direction: int = 1,
     sun_driven: bool = True,
@@ -210,8 +246,9 @@ def build_contact_table(
         The case (stages, meshes, tooth numbers, phase overrides, defects).
     model : Model
         The assembled model; its ``meshes`` fix the order of the table.
-    scene : Scene, optional
-        Scene whose defects apply on top of the case's.
+    scene : Scene or SceneSettings, optional
+        Scene whose defects apply on top of the case's (a ``Scene`` is resolved into
+        its settings first, and only those are read).
     direction : int
         sigma = +1 when each sun turns in +z relative to its carrier, -1 otherwise.
     sun_driven : bool
@@ -228,6 +265,7 @@ def build_contact_table(
     CaseError
         A tooth number is missing, or a scene defect does not fit the gearbox.
     """
+    scene = scene_settings(scene)
     if scene is not None:
         validate_defects(case.gearbox, scene.defects, f"scene {scene.name!r} defects")
     defects = merged_defects(case, scene)

@@ -2,8 +2,9 @@
 
 :class:`BandedNewmark` takes M, C, K0 (any symmetric matrices over the same DOFs),
 orders the DOFs by reverse Cuthill-McKee on the pattern of M + C + K0 + sum b b^T,
-stores them as LAPACK band matrices and runs the kernel's ``transient_start`` /
-``transient_advance`` (``fortran/newmark.f90``).  The kernel advances a chunk of
+stores them as LAPACK band matrices, hands them to the kernel once as a problem
+(``transient_problem_create``, which returns a handle) and runs ``transient_start`` /
+``transient_advance`` on it (``fortran/newmark.f90``).  The kernel advances a chunk of
 steps per call and returns its whole state, so this module shows progress, stops
 cleanly between chunks on Ctrl-C, writes checkpoints, and turns error codes into
 :class:`TransientError` messages naming the time, the DOF or mesh and the likely
@@ -21,6 +22,7 @@ import math
 import os
 import signal
 import time
+import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -32,7 +34,6 @@ from . import _kernel
 from .newmark_rebase import RigidRebase
 from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
-    IPARAM_LAYOUT,
     ISTATE_LAYOUT,
     LAW_CODES,
     PROBE_CODES,
@@ -47,7 +48,6 @@ from .newmark_support import (
     load_checkpoint,
     save_checkpoint,
     scheme_coefficients,
-    table_arguments,
 )
 
 __all__ = [
@@ -272,8 +272,6 @@ class BandedNewmark:
                 max_iterations,
                 int(bool(nonlinear and self.meshes.time_varying)),
                 int(bool(nonlinear and self.meshes.separation)),
-                1,
-                0,
                 max_refactors,
                 int(bool(restart_at_jumps)),
             ],
@@ -286,6 +284,8 @@ class BandedNewmark:
             ),
         }
         table = self.meshes.table if self.meshes is not None and self.meshes.time_varying else None
+        self.table = table
+        self._problem_handle: int | None = None
         self.rebase = RigidRebase(
             mass,
             stiffness,
@@ -335,7 +335,7 @@ class BandedNewmark:
                 "mean_stiffness": np.ones(1),
                 "contact_sign": np.ones(1, np.int32),
             }
-            return {**arguments, **table_arguments(None, 1)}
+            return arguments
         ptr, idx, val = self._sparse_rows(list(meshes.deflection))
         angle_ptr, angle_idx, angle_val = self._sparse_rows(list(meshes.angle))
         return {
@@ -347,7 +347,6 @@ class BandedNewmark:
             "angle_value": angle_val,
             "mean_stiffness": np.asarray(meshes.mean_stiffness, dtype=np.float64),
             "contact_sign": np.asarray(meshes.contact_sign, dtype=np.int32),
-            **table_arguments(meshes.table if meshes.time_varying else None, meshes.size),
         }
 
     def _load_arguments(self, drive, load, input_weights, output_weights) -> dict:
@@ -400,6 +399,40 @@ class BandedNewmark:
             "probe_value": np.array(value or [0.0], dtype=np.float64),
         }
 
+    def _problem(self) -> int:
+        """The kernel's handle of this problem, created (and checked) on first use; the
+        kernel keeps the matrices, settings, meshes and loads until this object is
+        garbage collected."""
+        if self._problem_handle is None:
+            handle, bad, ierr = _kernel.transient_problem_create(
+                mass_band=self.bands["mass"],
+                damping_band=self.bands["damping"],
+                stiffness_band=self.bands["stiffness"],
+                rparam=self.rparam,
+                iparam=self.iparam,
+                table_handle=self.table.handle if self.table is not None else 0,
+                **self.arguments,
+            )
+            if ierr:
+                raise self._error(int(ierr), int(bad), 0, "starting")
+            self._problem_handle = int(handle)
+            weakref.finalize(self, _kernel.transient_problem_free, int(handle)).atexit = False
+        return self._problem_handle
+
+    def _table_phases(self) -> dict:
+        """The tooth-contact table's phases and tooth offsets as a run starts (zeros, for
+        the kernel's one inert mesh, without a table)."""
+        if self.table is not None:
+            return {"phase": self.table.phase, "tooth_offset": self.table.tooth_offset}
+        n_mesh = len(self.arguments["mean_stiffness"])
+        return {"phase": np.zeros(n_mesh), "tooth_offset": np.zeros((2, n_mesh), np.int32)}
+
+    def __getstate__(self) -> dict:
+        """The solver without its kernel handle, which is valid only in this process."""
+        state = dict(self.__dict__)
+        state["_problem_handle"] = None
+        return state
+
     # --- running -----------------------------------------------------------------------------
 
     def start(
@@ -412,16 +445,13 @@ class BandedNewmark:
         q0 = np.zeros(self.n) if q0 is None else np.asarray(q0, dtype=np.float64)
         v0 = np.zeros(self.n) if v0 is None else np.asarray(v0, dtype=np.float64)
         out = _kernel.transient_start(
-            mass_band=self.bands["mass"],
-            damping_band=self.bands["damping"],
-            stiffness_band=self.bands["stiffness"],
-            rparam=self.rparam,
-            iparam=self.iparam,
+            handle=self._problem(),
+            kd=self.bandwidth,
+            n_mesh=len(self.arguments["mean_stiffness"]),
             q=q0[self.order],
             v=v0[self.order],
-            **self.arguments,
         )
-        a, k_used, mesh_var, k_factored, khat, factor, rstate, istate, bad, ierr = out
+        a, k_used, mesh_var, k_factored, factor, rstate, istate, bad, ierr = out
         if ierr:
             raise self._error(int(ierr), int(bad), 0, "starting")
         return {
@@ -431,7 +461,6 @@ class BandedNewmark:
             "k_used": np.array(k_used, dtype=np.float64),
             "mesh_var": np.array(mesh_var, dtype=np.float64),
             "k_factored": np.array(k_factored, dtype=np.float64),
-            "khat": np.asfortranarray(khat),
             "factor": np.asfortranarray(factor),
             "velocity_sum": np.zeros(self.n),
             "rstate": np.array(rstate, dtype=np.float64),
@@ -498,12 +527,11 @@ class BandedNewmark:
         """
         if n_steps < 1 or decimation < 1:
             raise ValueError("n_steps and decimation must be >= 1")
-        iparam = self.iparam.copy()
-        iparam[IPARAM_LAYOUT.index("decimation")] = decimation
         window_steps = min(max(int(window_steps), 0), n_steps)
-        iparam[IPARAM_LAYOUT.index("window_first_step")] = (
-            n_steps - window_steps + 1 if window_steps else 0
-        )
+        recording = {
+            "decimation": decimation,
+            "window_first_step": n_steps - window_steps + 1 if window_steps else 0,
+        }
         n_samples = n_steps // decimation + 1
         samples = np.zeros((max(len(probes), 1), n_samples), order="F")
         probe_args = (
@@ -511,8 +539,9 @@ class BandedNewmark:
             if probes
             else self._probe_arguments([KernelProbe("none", "drive_torque")])
         )
+        table = self.table.kernel_arguments() if self.table is not None else ()
         key = checkpoint_key(
-            (*self.bands.values(), self.rparam, self.iparam, *self.arguments.values()),
+            (*self.bands.values(), self.rparam, self.iparam, *self.arguments.values(), *table),
             (n_steps, decimation, window_steps, identity),
             probes,
             (*probe_args.values(), *(x for x in (q0, v0, a0) if x is not None)),
@@ -523,7 +552,7 @@ class BandedNewmark:
             state, written = self.start(q0, v0, a0), 0
         saved_step = int(state["istate"][ISTATE_LAYOUT.index("step")]) if resume is not None else -1
         if "rigid_offset" not in state:
-            state.update(self.rebase.initial_state(self.arguments))
+            state.update(self.rebase.initial_state(self._table_phases()))
         rigid_probes = [
             (p, np.asarray(probe.weights, dtype=np.float64)[self.order])
             for p, probe in enumerate(probes)
@@ -539,7 +568,7 @@ class BandedNewmark:
                 steps = self.rebase.aligned_steps(step, int(min(chunk, n_steps - step)))
                 started = time.perf_counter()
                 written_now, bad, ierr = self._advance(
-                    state, iparam, probe_args, steps, samples, written
+                    state, recording, probe_args, steps, samples, written
                 )
                 elapsed = time.perf_counter() - started
                 solver_wall += elapsed
@@ -615,17 +644,16 @@ class BandedNewmark:
             solver_wall_s=solver_wall,
         )
 
-    def _advance(self, state, iparam, probe_args, steps, samples, written) -> tuple[int, int, int]:
+    def _advance(
+        self, state, recording, probe_args, steps, samples, written
+    ) -> tuple[int, int, int]:
         view = samples[:, written:]
         n_written, bad, ierr = _kernel.transient_advance(
-            mass_band=self.bands["mass"],
-            damping_band=self.bands["damping"],
-            stiffness_band=self.bands["stiffness"],
-            khat_band=state["khat"],
+            handle=self._problem(),
             khat_factor=state["factor"],
-            rparam=self.rparam,
-            iparam=iparam,
             n_steps=steps,
+            phase=state["phase"],
+            tooth_offset=state["tooth_offset"],
             q=state["q"],
             v=state["v"],
             a=state["a"],
@@ -636,11 +664,7 @@ class BandedNewmark:
             rstate=state["rstate"],
             istate=state["istate"],
             samples=view,
-            **{
-                **self.arguments,
-                "phase": state["phase"],
-                "tooth_offset": state["tooth_offset"],
-            },
+            **recording,
             **probe_args,
         )
         return int(n_written), int(bad), int(ierr)

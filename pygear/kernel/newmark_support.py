@@ -33,7 +33,6 @@ __all__ = [
     "load_checkpoint",
     "save_checkpoint",
     "scheme_coefficients",
-    "table_arguments",
 ]
 
 EQUIVALENT_LOAD_CODES = {"linear": 0, "predictor": 1, "iterate": 2, "refactor": 3}
@@ -70,8 +69,6 @@ IPARAM_LAYOUT = (
     "max_iterations",
     "time_varying",
     "separation",
-    "decimation",
-    "window_first_step",
     "max_refactors",
     "restart_at_jumps",
 )
@@ -303,46 +300,14 @@ def kernel_error(
             f"transient {phase} {when}: the tooth-contact table failed (a mesh angle is not "
             f"finite or beyond 2**50 mesh cycles); likely cause: {cause}"
         )
-    return TransientError(f"transient {phase} {when}: kernel error code {ierr}")
-
-
-def table_arguments(table, n_mesh: int) -> dict:
-    """Tooth-contact table arguments (a harmless dummy when the stiffness is constant)."""
-    if table is not None:
-        names = (
-            "teeth",
-            "cycle_sign",
-            "tooth_offset",
-            "mean_stiffness_table",
-            "contact_ratio",
-            "end_to_peak",
-            "phase",
-            "law",
-            "curve_start",
-            "curve_size",
-            "curve",
-            "factor_start",
-            "factor",
-            "max_pairs",
+    if ierr == 10:
+        return TransientError(
+            f"transient {phase}: the kernel's handle of the problem or of its tooth-contact "
+            f"table is not live"
         )
-        values = dict(zip(names, table.kernel_arguments()))
-        values.pop("mean_stiffness_table")
-        return values
-    return {
-        "teeth": np.ones((2, n_mesh), dtype=np.int32, order="F"),
-        "cycle_sign": np.ones(n_mesh, dtype=np.int32),
-        "tooth_offset": np.zeros((2, n_mesh), dtype=np.int32, order="F"),
-        "contact_ratio": np.ones(n_mesh),
-        "end_to_peak": np.ones(n_mesh),
-        "phase": np.zeros(n_mesh),
-        "law": np.ones(n_mesh, dtype=np.int32),
-        "curve_start": np.zeros(n_mesh, dtype=np.int32),
-        "curve_size": np.zeros(n_mesh, dtype=np.int32),
-        "curve": np.zeros(1),
-        "factor_start": np.full((2, n_mesh), -1, dtype=np.int32, order="F"),
-        "factor": np.ones(1),
-        "max_pairs": 2,
-    }
+    if ierr == 11:
+        return TransientError(f"transient {phase}: the kernel holds too many problems (65535)")
+    return TransientError(f"transient {phase} {when}: kernel error code {ierr}")
 
 
 @contextlib.contextmanager

@@ -1,0 +1,197 @@
+!> What one transient problem is, for the Newmark kernel (module newmark): the band
+!> matrices, the settings, the meshes (sparse deflection and angle vectors, mean
+!> stiffness, contact signs, a copy of the tooth-contact table), the members the
+!> drive and load act on and their torque laws.  Python creates a problem once
+!> (checked, with Khat at mean stiffness formed) and then starts and advances runs
+!> of it by handle (module handles); a run's state stays with the caller.
+!>
+!> The problem holds its own copy of the tooth-contact table, with the meshes' k-bar
+!> (the stiffness inside K0) as the table's mean stiffness: the table may then be
+!> freed while the problem lives, and a run may shift the table's phases as it
+!> rebases its rotation (newmark_advance takes the phases with the state).
+module newmark_problem
+  use kinds, only: dp, ik
+  use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
+  use contact_table, only: tooth_contact_table, contact_table_at, ct_ok, ct_err_handle
+  use newmark_support, only: sparse_rows, torque_laws, effective_band, rows_fit, check_laws, &
+                             n_rparam, n_iparam, rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, &
+                             rp_tolerance, rp_deflection, ip_mode, ip_varying, ip_separation, &
+                             ip_restart, mode_linear, mode_refactor, nm_ok, nm_err_argument, &
+                             nm_err_handle, nm_err_full
+  implicit none
+  private
+
+  public :: transient_problem, create_transient_problem, free_transient_problem, &
+            transient_problem_at
+
+  !> One transient problem; band matrices in LAPACK lower storage, RCM DOF order.
+  type :: transient_problem
+    integer(ik) :: n = 0                                 !< DOFs [-]
+    integer(ik) :: kd = 0                                !< band subdiagonals [-]
+    integer(ik) :: n_mesh = 0                            !< meshes [-]
+    real(dp), allocatable :: mass_band(:, :)             !< (kd + 1, n) M [kg, kg m^2]
+    real(dp), allocatable :: damping_band(:, :)          !< (kd + 1, n) C [N s/m, N m s/rad]
+    real(dp), allocatable :: stiffness_band(:, :)        !< (kd + 1, n) K0 [N/m, N m/rad]
+    real(dp), allocatable :: khat_band(:, :)             !< (kd + 1, n) Khat at mean stiffness [N/m]
+    real(dp) :: rparam(n_rparam) = 0.0_dp                !< real settings (see layout) [SI]
+    integer(ik) :: iparam(n_iparam) = 0                  !< integer settings (see layout) [-]
+    type(sparse_rows) :: mesh                            !< n_mesh rows b_m, delta_m = b_m . q [m/m, m/rad]
+    type(sparse_rows) :: angle                           !< n_mesh rows w_m, theta_m = w_m . q [rad/rad]
+    real(dp), allocatable :: mean_stiffness(:)           !< kbar_m [N/m]
+    integer(ik), allocatable :: contact_sign(:)          !< s_m = +1 or -1 [-]
+    logical :: has_table = .false.                       !< a tooth-contact table is held [-]
+    type(tooth_contact_table) :: table                   !< the meshes' table (time-varying stiffness)
+    type(sparse_rows) :: members                         !< input (1) and output (2) member rotations [rad/rad]
+    type(torque_laws) :: laws                            !< drive and load torque laws
+  end type transient_problem
+
+  type(handle_registry), target :: registry  !< the problems Python holds handles of
+
+contains
+
+  !> Check a problem, attach the contact table table_handle names (0: none) and keep
+  !> it under a new handle with Khat formed.  bad names the first wrong entry (rparam
+  !> index, iparam index + 100, or a law-table column + 1000).
+  subroutine create_transient_problem(problem, table_handle, handle, bad, ierr)
+    type(transient_problem), intent(in) :: problem  !< the problem (khat_band and table unset)
+    integer(ik), intent(in) :: table_handle         !< contact table, 0 for constant stiffness [-]
+    integer(ik), intent(out) :: handle              !< the problem's handle, 0 on error [-]
+    integer(ik), intent(out) :: bad                 !< first wrong entry [-]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+    type(tooth_contact_table), pointer :: table
+    type(transient_problem) :: kept
+
+    handle = 0
+    call check_problem(problem, bad, ierr)
+    if (ierr /= nm_ok) return
+    kept = problem
+    if (table_handle /= 0) then
+      call contact_table_at(table_handle, problem%n_mesh, table, ierr)
+      if (ierr /= ct_ok) then
+        ierr = merge(nm_err_handle, nm_err_argument, ierr == ct_err_handle)
+        return
+      end if
+      kept%table = table
+      kept%table%mean_stiffness = problem%mean_stiffness
+      kept%has_table = .true.
+    else if (problem%iparam(ip_varying) /= 0) then
+      bad = 100 + ip_varying
+      ierr = nm_err_argument
+      return
+    end if
+    allocate (kept%khat_band(kept%kd + 1, kept%n))
+    call effective_band(kept%n, kept%kd, kept%mass_band, kept%damping_band, kept%stiffness_band, &
+                        kept%rparam, kept%khat_band)
+    call keep_item(registry, kept, handle, ierr)
+    if (ierr /= hd_ok) ierr = merge(nm_err_full, nm_err_handle, ierr == hd_err_full)
+  end subroutine create_transient_problem
+
+  !> Release a problem; its handle is no longer valid.
+  subroutine free_transient_problem(handle, ierr)
+    integer(ik), intent(in) :: handle   !< handle from create_transient_problem [-]
+    integer(ik), intent(out) :: ierr    !< error code (0 = ok)
+
+    call release_item(registry, handle, ierr)
+    if (ierr /= hd_ok) ierr = nm_err_handle
+  end subroutine free_transient_problem
+
+  !> The problem a handle names, for as long as no problem is created or freed; n, kd
+  !> and n_mesh must be the sizes of the caller's state arrays.
+  subroutine transient_problem_at(handle, n, kd, n_mesh, problem, ierr)
+    integer(ik), intent(in) :: handle                         !< handle from create_transient_problem [-]
+    integer(ik), intent(in) :: n                              !< DOFs the caller expects [-]
+    integer(ik), intent(in) :: kd                             !< subdiagonals the caller expects [-]
+    integer(ik), intent(in) :: n_mesh                         !< meshes the caller expects [-]
+    type(transient_problem), pointer, intent(out) :: problem  !< the problem, null on error
+    integer(ik), intent(out) :: ierr                          !< error code (0 = ok)
+    class(*), pointer :: item
+
+    nullify (problem)
+    call find_item(registry, handle, item, ierr)
+    ierr = nm_err_handle
+    if (.not. associated(item)) return
+    select type (item)
+    type is (transient_problem)
+      ierr = nm_err_argument
+      if (item%n /= n .or. item%kd /= kd .or. item%n_mesh /= n_mesh) return
+      problem => item
+      ierr = nm_ok
+    end select
+  end subroutine transient_problem_at
+
+  !> Check sizes, indices and settings of a problem; bad names the first wrong entry.
+  pure subroutine check_problem(problem, bad, ierr)
+    type(transient_problem), intent(in) :: problem  !< the problem to check
+    integer(ik), intent(out) :: bad                 !< first wrong entry [-]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+
+    ierr = nm_err_argument
+    bad = 0
+    associate (n => problem%n, kd => problem%kd, n_mesh => problem%n_mesh, &
+               rparam => problem%rparam, iparam => problem%iparam)
+      if (n < 1 .or. kd < 0 .or. kd > n - 1 .or. n_mesh < 0) return
+      if (.not. bands_fit(problem)) return
+      if (.not. (rparam(rp_dt) > 0.0_dp .and. rparam(rp_dt) < huge(1.0_dp))) then
+        bad = rp_dt
+        return
+      end if
+      if (.not. (rparam(rp_beta) > 0.0_dp)) then
+        bad = rp_beta
+        return
+      end if
+      if (.not. (rparam(rp_gamma) >= 0.0_dp)) then
+        bad = rp_gamma
+        return
+      end if
+      if (.not. (rparam(rp_alpha_m) < 1.0_dp)) then
+        bad = rp_alpha_m
+        return
+      end if
+      if (.not. (rparam(rp_alpha_f) >= 0.0_dp .and. rparam(rp_alpha_f) < 1.0_dp)) then
+        bad = rp_alpha_f
+        return
+      end if
+      if (.not. (rparam(rp_tolerance) > 0.0_dp)) then
+        bad = rp_tolerance
+        return
+      end if
+      if (.not. (rparam(rp_deflection) > 0.0_dp)) then
+        bad = rp_deflection
+        return
+      end if
+      if (iparam(ip_mode) < mode_linear .or. iparam(ip_mode) > mode_refactor) then
+        bad = 100 + ip_mode
+        return
+      end if
+      ! a restart solves the equation of motion at a step instant: average acceleration
+      ! only (alpha_m = alpha_f = 0), and not with tooth separation (its zero stiffness
+      ! is a contact state, not a table jump)
+      if (iparam(ip_restart) < 0 .or. iparam(ip_restart) > 1 .or. (iparam(ip_restart) == 1 .and. &
+          (rparam(rp_alpha_m) /= 0.0_dp .or. rparam(rp_alpha_f) /= 0.0_dp .or. &
+           iparam(ip_separation) /= 0))) then
+        bad = 100 + ip_restart
+        return
+      end if
+      if (.not. (rows_fit(problem%mesh, n_mesh, n) .and. rows_fit(problem%angle, n_mesh, n) .and. &
+                 rows_fit(problem%members, 2_ik, n))) return
+      if (.not. (allocated(problem%mean_stiffness) .and. allocated(problem%contact_sign))) return
+      if (size(problem%mean_stiffness) /= n_mesh .or. size(problem%contact_sign) /= n_mesh) return
+      if (any(abs(problem%contact_sign) /= 1)) return
+    end associate
+    call check_laws(problem%laws, bad, ierr)
+  end subroutine check_problem
+
+  !> The three band matrices are allocated with kd + 1 rows and n columns.
+  pure logical function bands_fit(problem)
+    type(transient_problem), intent(in) :: problem  !< the problem to inspect
+
+    bands_fit = .false.
+    if (.not. (allocated(problem%mass_band) .and. allocated(problem%damping_band) .and. &
+               allocated(problem%stiffness_band))) return
+    associate (band => [problem%kd + 1, problem%n])
+      if (any(shape(problem%mass_band) /= band) .or. any(shape(problem%damping_band) /= band) .or. &
+          any(shape(problem%stiffness_band) /= band)) return
+    end associate
+    bands_fit = .true.
+  end function bands_fit
+end module newmark_problem
