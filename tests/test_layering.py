@@ -174,6 +174,46 @@ def test_the_rules_catch_what_they_should(tmp_path):
     assert _layer("pygear.kernel.newmark") > _layer("pygear.assembly.matrices")
 
 
+def _runtime_names(path: Path) -> set[str]:
+    """Names imported from ``pygear.model.case`` outside ``if TYPE_CHECKING:`` blocks."""
+    names: set[str] = set()
+
+    def visit(node: ast.AST) -> None:
+        if isinstance(node, ast.If) and getattr(node.test, "id", None) == "TYPE_CHECKING":
+            for child in node.orelse:
+                visit(child)
+            return
+        if isinstance(node, ast.ImportFrom) and (node.module or "").endswith("model.case"):
+            names.update(alias.name for alias in node.names)
+        for child in ast.iter_child_nodes(node):
+            visit(child)
+
+    visit(ast.parse(path.read_text()))
+    return names
+
+
+@pytest.mark.parametrize(
+    "module",
+    sorted(m for m in SOURCES if m.startswith(("pygear.assembly", "pygear.kernel"))),
+)
+def test_assembly_and_kernel_take_resolved_scene_settings(module):
+    # a Scene reaches assembly only to be resolved by pygear.model.scene_settings;
+    # importing the class at run time would let code read it
+    assert "Scene" not in _runtime_names(SOURCES[module])
+
+
+def test_the_scene_rule_sees_runtime_imports(tmp_path):
+    source = tmp_path / "probe.py"
+    source.write_text(
+        "from typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n"
+        "    from ..model.case import Scene\n"
+        "def f():\n"
+        "    from ..model.case import Case, Scene\n"
+    )
+    assert _runtime_names(source) == {"Case", "Scene"}
+
+
 @pytest.mark.parametrize("module", sorted(SOURCES))
 def test_module_length(module):
     path = SOURCES[module]

@@ -35,6 +35,7 @@ from ..assembly.matrices import assemble, choose_dof_set
 from ..errors import CaseError
 from ..kernel.calls import KernelError
 from ..model.case import FORMULATIONS, Case, Scene, load_case_module
+from ..model.scene_settings import scene_settings
 from .accuracy_report import accuracy_table_text, grid_dataset, recommendation
 
 __all__ = [
@@ -199,7 +200,7 @@ def fidelity_ladder(case: Case, scene: Scene, study: AccuracyStudy) -> list[Fide
     ``auto`` is kept only when pygear's pick differs from the explicit DOF sets; a
     DOF set the scene's effects refuse (e.g. helical coupling) is left out.
     """
-    auto, _ = choose_dof_set(case, dataclasses.replace(scene, dof_set=None))
+    auto, _ = choose_dof_set(case, scene_settings(dataclasses.replace(scene, dof_set=None)))
     separation = "tooth_separation" in scene.effects
     ladder = []
     for dof_set in study.dof_sets:

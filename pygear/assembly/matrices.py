@@ -14,15 +14,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import CaseError
 from ..kernel import _kernel
 from ..kernel.calls import FORMULATION_CODES, MESH_KINDS, call
-from ..model.case import DOF_SETS, FORMULATIONS, Case, Scene, check_choice
+from ..model.case import DOF_SETS, FORMULATIONS, Case, check_choice
 from ..model.components import PlanetaryStage
 from ..model.gearbox import CENTRAL_DOFS, PLANET_DOFS, ParallelStage, RigidLink, TorsionalSpring
+from ..model.scene_settings import SceneSettings, scene_settings
+
+if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
+    from ..model.case import Scene
 
 __all__ = [
     "CENTRAL_DOFS",
@@ -166,8 +171,10 @@ class Model:
         return sorted({p for s in self.springs for p in s.parameters})
 
 
-def choose_dof_set(case: Case, scene: Scene | None, override: str | None = None) -> tuple[str, str]:
-    """The DOF set for a scene, and why.
+def choose_dof_set(
+    case: Case, scene: SceneSettings | None, override: str | None = None
+) -> tuple[str, str]:
+    """The DOF set for a scene (its resolved settings), and why.
 
     A scene's own choice wins; otherwise a gearbox of spur stages is planar (its
     out-of-plane DOFs are decoupled, so the in-plane answer is exact), any helical
@@ -214,7 +221,7 @@ def _kept_dofs(case: Case, dof_set: str) -> dict[str, frozenset[str]]:
 
 def assemble(
     case: Case,
-    scene: Scene | None = None,
+    scene: Scene | SceneSettings | None = None,
     *,
     formulation: str | None = None,
     dof_set: str | None = None,
@@ -225,12 +232,15 @@ def assemble(
     ----------
     case : Case
         The case (validated on construction).
-    scene : Scene, optional
-        Scene whose formulation, DOF set and effects apply.
+    scene : Scene or SceneSettings, optional
+        Scene whose formulation, DOF set and effects apply; a ``Scene`` is resolved
+        into its :class:`~pygear.model.scene_settings.SceneSettings` first, and only
+        those are read.
     formulation, dof_set : str, optional
         Overrides of the scene's choices.
     """
     case.validate()
+    scene = scene_settings(scene)
     formulation = formulation or (scene.formulation if scene else None) or case.formulation
     check_choice("formulation", formulation, FORMULATIONS)
     dof_set, reason = choose_dof_set(case, scene, dof_set)
@@ -301,7 +311,7 @@ def assemble(
     )
 
 
-def _scene_attributes(case: Case, scene: Scene | None) -> dict:
+def _scene_attributes(case: Case, scene: SceneSettings | None) -> dict:
     """What the scene asks for beyond the matrices, for the record of effects in force."""
     from ..model.case import merged_defects
 
@@ -355,7 +365,7 @@ class _Builder:
                     )
 
     def add_planetary_stage(
-        self, stage: PlanetaryStage, effects: tuple[str, ...], scene: Scene | None
+        self, stage: PlanetaryStage, effects: tuple[str, ...], scene: SceneSettings | None
     ) -> None:
         lin_parker = self.formulation == "lin-parker"
         planet_dofs = PLANET_DOFS[:6] if lin_parker else PLANET_DOFS
