@@ -20,17 +20,31 @@
 !> Meshes (equivalent load, the paper's eq. 25): mesh m has a sparse deflection
 !> vector b_m (delta_m = b_m . q), mean stiffness kbar_m and contact sign s_m;
 !> N(q, t) = sum_m (k_m - kbar_m) b_m delta_m with k_m the tooth-contact table's
-!> stiffness at theta_m = w_m . q (time-varying mesh stiffness) or kbar_m, times 0
-!> when s_m delta_m <= 0 (tooth separation).  The stiffness in the factor, kf_m,
+!> stiffness at theta_m = w_m . q (time-varying mesh stiffness) or kbar_m.  With tooth
+!> separation the mesh force is piecewise (module flank_contact): k_m delta_m on the
+!> drive flank (s_m delta_m > 0), 0 inside the backlash b_m, k_coast_m (delta_m - o_m)
+!> on the coast flank (s_m delta_m < -b_m, o_m = -s_m b_m, k_coast_m the table at the
+!> coast phase), so that N_m = (k_m - kbar_m) delta_m - k_m o_m with k_m the stiffness
+!> of the flank in contact (0 in free flight).  The stiffness in the factor, kf_m,
 !> is kbar_m unless a refactor changed it; each evaluation then contributes the
-!> lagged load g_m = (k_m - kbar_m) delta_m - (kf_m - kbar_m)(delta_m - deltat_m).
+!> lagged load g_m = N_m - (kf_m - kbar_m)(delta_m - deltat_m).
 !> The table is evaluated once per step at the predicted angles (the mesh cycle is
-!> the slow variable); deflections and contact state follow the iterates.
+!> the slow variable; a second call for the coast flanks when a mesh has a finite
+!> backlash); deflections and the flank in contact follow the iterates.
 !> Modes: predictor (one evaluation at the Newmark predictor qt, i.e. a_n+1 = 0 in
 !> the mesh term: the paper's explicit equivalent load; extrapolating with a_n
 !> instead excites the highest modes more), iterate (fixed point on the same
 !> factor from that start), refactor (iterate; refactor Khat with the current
 !> stiffness when it moved too far or the iteration does not converge).
+!> Convergence test (iterate, refactor): an iterate is accepted when no lagged load
+!> moved by more than tolerance * max_m(kbar_m |delta_m|) (floor kbar pico) and
+!> neither torque by more than tolerance * max(|drive|, |load|).  A flank switch
+!> (contact, free flight, coast) is a jump of g_m, so the step iterates until the
+!> flank of every mesh is the same for two iterates; the equation of motion then
+!> holds at t_n+1 with the piecewise force up to that tolerance, and with average
+!> acceleration and no damping the discrete energy balance (kinetic energy plus the
+!> trapezoidal work of the mesh and K0 forces equals the trapezoidal work of the
+!> loads) closes to that tolerance times the step's deflection change, per step.
 !>
 !> Loads: a drive torque on the input member and a load torque against the output
 !> member, each a law of time (constant, ramp, table) or, for the load, of the
@@ -45,6 +59,7 @@
 module newmark
   use kinds, only: dp, ik
   use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
+  use flank_contact, only: flank_force_law, flank_compression, flank_coast
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve
@@ -71,14 +86,15 @@ contains
     integer(ik), intent(out) :: istate(n_istate)                      !< counters (see layout) [-]
     integer(ik), intent(out) :: bad                                   !< offending index for ierr [-]
     integer(ik), intent(out) :: ierr                                  !< error code (0 = ok)
-    real(dp), allocatable :: work(:, :), rhs(:), delta(:)
+    real(dp), allocatable :: work(:, :), rhs(:), delta(:), offset(:)
     real(dp) :: speed
     integer(ik) :: info, j, n, kd, n_mesh
-    logical :: on
+    logical :: on, coast_flank
 
     n = problem%n
     kd = problem%kd
     n_mesh = problem%n_mesh
+    coast_flank = problem%iparam(ip_separation) /= 0 .and. any(problem%backlash <= huge(1.0_dp))
     a = 0.0_dp
     k_used = problem%mean_stiffness
     mesh_var = 0.0_dp
@@ -114,7 +130,7 @@ contains
     rstate(rs_load) = law_torque(problem%laws, 2, 0.0_dp, member_speed(problem%members, 2, v), &
                               on)
 
-    allocate (rhs(n), delta(n_mesh), work(kd + 1, n))
+    allocate (rhs(n), delta(n_mesh), offset(n_mesh), work(kd + 1, n))
     rhs = 0.0_dp
     call add_member(problem%members, 1, rstate(rs_drive), rhs)
     call add_member(problem%members, 2, -rstate(rs_load), rhs)
@@ -122,9 +138,9 @@ contains
     call band_multiply(n, kd, problem%stiffness_band, q, -1.0_dp, rhs)
     if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
-      call mesh_stiffness(q, delta, k_used, ierr)
+      call mesh_stiffness(q, delta, k_used, offset, ierr)
       if (ierr /= nm_ok) return
-      mesh_var = (k_used - problem%mean_stiffness) * delta
+      mesh_var = (k_used - problem%mean_stiffness) * delta - k_used * offset
       do j = 1, n_mesh
         call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
@@ -154,30 +170,46 @@ contains
       end do
     end subroutine deflections
 
-    subroutine mesh_stiffness(x, d, k, code)
+    subroutine mesh_stiffness(x, d, k, o, code)
       real(dp), intent(in) :: x(:)      !< displacements [m, rad]
       real(dp), intent(in) :: d(:)      !< mesh deflections [m]
-      real(dp), intent(out) :: k(:)     !< mesh stiffness in force [N/m]
+      real(dp), intent(out) :: k(:)     !< stiffness of the flank in contact [N/m]
+      real(dp), intent(out) :: o(:)     !< deflection offsets of the flank forces [m]
       integer(ik), intent(out) :: code  !< error code
       real(dp) :: theta(problem%n_mesh), pos(problem%table%max_pairs, problem%n_mesh)
-      integer(ik) :: pairs(problem%n_mesh), loaded(problem%n_mesh), m
+      real(dp) :: k_drive(problem%n_mesh), k_coast(problem%n_mesh)
+      integer(ik) :: pairs(problem%n_mesh), loaded(problem%n_mesh), m, flank
       integer(ik) :: tooth(2, problem%table%max_pairs, problem%n_mesh)
+      type(tooth_contact_table) :: coast
       code = nm_ok
+      o = 0.0_dp
       if (problem%iparam(ip_varying) /= 0) then
         do m = 1, n_mesh
           theta(m) = sparse_dot(problem%angle, m, x)
         end do
         call evaluate_contact(problem%table, theta, k, pairs, loaded, pos, tooth, code)
         istate(is_contact) = istate(is_contact) + 1
+        k_coast = k
+        if (code == ct_ok .and. coast_flank) then  ! the same table at the coast phase
+          coast = problem%table
+          coast%phase = coast%phase + problem%coast_phase
+          call evaluate_contact(coast, theta, k_coast, pairs, loaded, pos, tooth, code)
+          istate(is_contact) = istate(is_contact) + 1
+        end if
         if (code /= ct_ok) then
           code = nm_err_contact
           return
         end if
       else
         k = problem%mean_stiffness
+        k_coast = k
       end if
       if (problem%iparam(ip_separation) /= 0) then
-        where (real(problem%contact_sign, dp) * d <= 0.0_dp) k = 0.0_dp
+        k_drive = k
+        do m = 1, n_mesh
+          call flank_force_law(problem%contact_sign(m), d(m), problem%backlash(m), k_drive(m), &
+                               k_coast(m), k(m), o(m), flank)
+        end do
       end if
     end subroutine mesh_stiffness
   end subroutine newmark_start
@@ -215,14 +247,14 @@ contains
 
     real(dp), allocatable :: qt(:), vt(:), r0(:), rhs(:), a_new(:), q_new(:), v_new(:), wc(:), wk(:)
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
-    real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :)
-    integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :)
-    type(tooth_contact_table) :: table
+    real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :), k_coast(:), offset(:)
+    integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:)
+    type(tooth_contact_table) :: table, coast_table
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
     integer(ik) :: info, n, kd, n_mesh, n_probe, max_samples
-    logical :: nonlinear, converged, load_on, restart
+    logical :: nonlinear, converged, load_on, restart, separation, coast_flank
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -246,6 +278,12 @@ contains
       table%phase = phase
       table%tooth_offset = tooth_offset
     end if
+    separation = problem%iparam(ip_separation) /= 0
+    coast_flank = separation .and. any(problem%backlash <= huge(1.0_dp))
+    if (problem%has_table .and. coast_flank) then  ! the same table at the coast phase
+      coast_table = table
+      coast_table%phase = phase + problem%coast_phase
+    end if
     dt = problem%rparam(rp_dt)
     beta = problem%rparam(rp_beta)
     gamma = problem%rparam(rp_gamma)
@@ -260,7 +298,7 @@ contains
 
     allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), q_new(n), v_new(n), wc(n), wk(n))
     allocate (delta(n_mesh), delta_t(n_mesh), k_eff(n_mesh), k_step(n_mesh), g(n_mesh), g_new(n_mesh))
-    allocate (compression(n_mesh))
+    allocate (compression(n_mesh), k_coast(n_mesh), offset(n_mesh), flank(n_mesh))
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, problem%table%max_pairs, n_mesh))
     restart = problem%iparam(ip_restart) /= 0 .and. nonlinear .and. problem%iparam(ip_varying) /= 0
@@ -397,9 +435,12 @@ contains
         do m = 1, n_mesh
           delta(m) = delta_t(m) + (beta * dt * dt) * sparse_dot(problem%mesh, m, a_new)
         end do
-        ! an open contact (tooth separation) may gape; only compression runs away
-        if (problem%iparam(ip_separation) /= 0) then
-          compression = max(real(problem%contact_sign, dp) * delta, 0.0_dp)
+        ! inside the backlash the teeth may gape; only the flank in contact runs away
+        if (separation) then
+          do m = 1, n_mesh
+            compression(m) = flank_compression(problem%contact_sign(m), delta(m), &
+                                               problem%backlash(m))
+          end do
         else
           compression = abs(delta)
         end if
@@ -409,9 +450,10 @@ contains
           return
         end if
         k_used = k_eff
-        mesh_var = (k_eff - problem%mean_stiffness) * delta
+        mesh_var = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
         istate(is_separated) = istate(is_separated) + &
                                count(k_eff == 0.0_dp .and. problem%mean_stiffness > 0.0_dp)
+        if (separation) istate(is_coast) = istate(is_coast) + count(flank == flank_coast)
       end if
       q = q_new
       v = v_new
@@ -474,7 +516,7 @@ contains
     !> Loads and lagged mesh loads at the state a step-acceleration x gives.  The
     !> table's stiffness is a function of the slow mesh-cycle position: it is
     !> evaluated once per step, at the predictor (first = .true.); the deflections
-    !> and the contact state (tooth separation) follow every iterate.
+    !> and the flank in contact (tooth separation) follow every iterate.
     subroutine evaluate(x, first, drive_x, load_x, g_x)
       real(dp), intent(in) :: x(:)        !< trial acceleration [m/s^2, rad/s^2]
       logical, intent(in) :: first        !< first evaluation of the step [-]
@@ -513,6 +555,12 @@ contains
           end if
           call evaluate_contact(table, theta, k_step, pairs, loaded, position, tooth, code)
           istate(is_contact) = istate(is_contact) + 1
+          k_coast = k_step
+          if (code == ct_ok .and. coast_flank) then
+            call evaluate_contact(coast_table, theta, k_coast, pairs, loaded, position, tooth, &
+                                  code)
+            istate(is_contact) = istate(is_contact) + 1
+          end if
           if (code /= ct_ok) then
             ierr = nm_err_contact
             bad = 0
@@ -520,13 +568,18 @@ contains
           end if
         else
           k_step = problem%mean_stiffness
+          k_coast = k_step
         end if
       end if
       k_eff = k_step
-      if (problem%iparam(ip_separation) /= 0) then
-        where (real(problem%contact_sign, dp) * delta <= 0.0_dp) k_eff = 0.0_dp
+      offset = 0.0_dp
+      if (separation) then
+        do mm = 1, n_mesh
+          call flank_force_law(problem%contact_sign(mm), delta(mm), problem%backlash(mm), &
+                               k_step(mm), k_coast(mm), k_eff(mm), offset(mm), flank(mm))
+        end do
       end if
-      g_x = (k_eff - problem%mean_stiffness) * delta &
+      g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset &
             - (k_factored - problem%mean_stiffness) * (delta - delta_t)
     end subroutine evaluate
 
@@ -578,10 +631,16 @@ contains
           samples(p, n_samples) = sparse_dot(probes, p, xd)
         case (probe_acceleration)
           samples(p, n_samples) = sparse_dot(probes, p, xdd)
-        case (probe_mesh_force)
+        case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast)
           mm = probes%index(probes%ptr(p) + 1)
           d = real(problem%contact_sign(mm), dp) * sparse_dot(problem%mesh, mm, x)
-          if (problem%iparam(ip_separation) /= 0) d = max(d, 0.0_dp)
+          if (separation) then
+            if (d < -problem%backlash(mm)) then
+              d = d + problem%backlash(mm)
+            else
+              d = max(d, 0.0_dp)
+            end if
+          end if
           samples(p, n_samples) = k_used(mm) * d
         case (probe_mesh_stiffness)
           samples(p, n_samples) = k_used(probes%index(probes%ptr(p) + 1))

@@ -9,6 +9,9 @@
 !> (the stiffness inside K0) as the table's mean stiffness: the table may then be
 !> freed while the problem lives, and a run may shift the table's phases as it
 !> rebases its rotation (newmark_advance takes the phases with the state).
+!>
+!> With tooth separation each mesh has a backlash (+inf: no coast flank) and a coast
+!> phase offset (module flank_contact).
 module newmark_problem
   use kinds, only: dp, ik
   use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
@@ -39,6 +42,8 @@ module newmark_problem
     type(sparse_rows) :: angle                           !< n_mesh rows w_m, theta_m = w_m . q [rad/rad]
     real(dp), allocatable :: mean_stiffness(:)           !< kbar_m [N/m]
     integer(ik), allocatable :: contact_sign(:)          !< s_m = +1 or -1 [-]
+    real(dp), allocatable :: backlash(:)                 !< b_m >= 0 on the line of action, +inf none [m]
+    real(dp), allocatable :: coast_phase(:)              !< coast-flank phase offset [mesh cycles]
     logical :: has_table = .false.                       !< a tooth-contact table is held [-]
     type(tooth_contact_table) :: table                   !< the meshes' table (time-varying stiffness)
     type(sparse_rows) :: members                         !< input (1) and output (2) member rotations [rad/rad]
@@ -46,6 +51,7 @@ module newmark_problem
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of
+  real(dp), parameter :: max_phase = 2.0_dp**50  !< |coast phase| beyond loses the cycle's digits
 
 contains
 
@@ -177,6 +183,11 @@ contains
       if (.not. (allocated(problem%mean_stiffness) .and. allocated(problem%contact_sign))) return
       if (size(problem%mean_stiffness) /= n_mesh .or. size(problem%contact_sign) /= n_mesh) return
       if (any(abs(problem%contact_sign) /= 1)) return
+      if (.not. (allocated(problem%backlash) .and. allocated(problem%coast_phase))) return
+      if (size(problem%backlash) /= n_mesh .or. size(problem%coast_phase) /= n_mesh) return
+      ! NaN fails both tests; +inf backlash is allowed (no coast flank)
+      if (.not. all(problem%backlash >= 0.0_dp)) return
+      if (.not. all(abs(problem%coast_phase) < max_phase)) return
     end associate
     call check_laws(problem%laws, bad, ierr)
   end subroutine check_problem

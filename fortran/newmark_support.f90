@@ -21,7 +21,7 @@ module newmark_support
   public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart
   public :: n_rparam, n_iparam, n_rstate, n_istate
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
-            is_separated, is_contact, is_restarts
+            is_separated, is_contact, is_restarts, is_coast
   public :: rs_t_s, rs_drive, rs_load, pico
 
   ! equivalent-load modes (iparam(ip_mode))
@@ -41,7 +41,7 @@ module newmark_support
   integer(ik), parameter :: probe_displacement = 1    !< w . q
   integer(ik), parameter :: probe_velocity = 2        !< w . v
   integer(ik), parameter :: probe_acceleration = 3    !< w . a
-  integer(ik), parameter :: probe_mesh_force = 4      !< s_m k_m delta_m of mesh index(1), compression > 0
+  integer(ik), parameter :: probe_mesh_force = 4      !< flank force F of mesh index(1): drive > 0, coast < 0
   integer(ik), parameter :: probe_mesh_stiffness = 5  !< k_m in force of mesh index(1)
   integer(ik), parameter :: probe_drive_torque = 6    !< drive torque on the input member
   integer(ik), parameter :: probe_load_torque = 7     !< load torque against the output member
@@ -72,11 +72,12 @@ module newmark_support
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
                         is_max_iterations = 5, is_window = 6, is_separated = 7, &
                         is_contact = 8, &  ! tooth-contact table evaluations
-                        is_restarts = 9    ! acceleration restarts at stiffness jumps
+                        is_restarts = 9, & ! acceleration restarts at stiffness jumps
+                        is_coast = 10      ! mesh-steps with the coast flanks in contact
   ! rstate layout
   integer, parameter :: rs_t_s = 1, rs_drive = 2, rs_load = 3
   ! sizes of the four arrays above
-  integer(ik), parameter :: n_rparam = 10, n_iparam = 6, n_istate = 9, n_rstate = 3
+  integer(ik), parameter :: n_rparam = 10, n_iparam = 6, n_istate = 10, n_rstate = 3
 
   real(dp), parameter :: pico = 1.0e-12_dp  !< deflection floor of the convergence scale [m]
 

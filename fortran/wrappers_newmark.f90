@@ -11,7 +11,8 @@
 subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_band, rparam, iparam, &
                                     n_mesh, mesh_ptr, n_mesh_nz, mesh_index, mesh_value, angle_ptr, &
                                     n_angle_nz, angle_index, angle_value, mean_stiffness, &
-                                    contact_sign, table_handle, load_ptr, n_load_nz, load_index, &
+                                    contact_sign, backlash, coast_phase, table_handle, load_ptr, &
+                                    n_load_nz, load_index, &
                                     load_value, law_kind, law_param, law_start, law_size, n_table, &
                                     law_table, handle, bad, ierr)
   use kinds, only: dp, ik
@@ -36,6 +37,8 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
   real(dp), intent(in) :: angle_value(n_angle_nz)       !< weights [rad/rad]
   real(dp), intent(in) :: mean_stiffness(n_mesh)        !< kbar_m [N/m]
   integer(ik), intent(in) :: contact_sign(n_mesh)       !< s_m = +1 or -1 [-]
+  real(dp), intent(in) :: backlash(n_mesh)              !< b_m >= 0 on the line of action, +inf none [m]
+  real(dp), intent(in) :: coast_phase(n_mesh)           !< coast-flank phase offset [mesh cycles]
   integer(ik), intent(in) :: table_handle               !< contact table (contact_table_create), 0 none [-]
   integer(ik), intent(in) :: load_ptr(3)                !< input (1) and output (2) member vectors [-]
   integer(ik), intent(in) :: n_load_nz                  !< entries of both [-]
@@ -58,6 +61,7 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
                                                   angle=sparse_rows(angle_ptr, angle_index, angle_value), &
                                                   mean_stiffness=mean_stiffness, &
                                                   contact_sign=contact_sign, &
+                                                  backlash=backlash, coast_phase=coast_phase, &
                                                   members=sparse_rows(load_ptr, load_index, load_value), &
                                                   laws=torque_laws(law_kind, law_param, law_start, &
                                                                    law_size, law_table)), &
@@ -91,7 +95,7 @@ subroutine transient_start(handle, n, kd, n_mesh, q, v, a, k_used, mesh_var, k_f
   real(dp), intent(out) :: k_factored(n_mesh)          !< stiffness in the factor kf_m [N/m]
   real(dp), intent(out) :: khat_factor(kd + 1, n)      !< Cholesky factor of Khat [N/m]
   real(dp), intent(out) :: rstate(3)                   !< t_s [s], drive and load torque [N m]
-  integer(ik), intent(out) :: istate(9)                !< counters (see layout) [-]
+  integer(ik), intent(out) :: istate(10)                !< counters (see layout) [-]
   integer(ik), intent(out) :: bad                      !< offending index for ierr [-]
   integer(ik), intent(out) :: ierr                     !< error code (0 = ok)
   type(transient_problem), pointer :: problem
@@ -137,7 +141,7 @@ subroutine transient_advance(handle, n, kd, n_mesh, n_probe, probe_kind, probe_p
   real(dp), intent(inout) :: khat_factor(kd + 1, n)        !< factor of Khat at k_factored [N/m]
   real(dp), intent(inout) :: velocity_sum(n)               !< sum of v over the window [m/s, rad/s]
   real(dp), intent(inout) :: rstate(3)                     !< t_s [s], drive, load torque [N m]
-  integer(ik), intent(inout) :: istate(9)                  !< counters (see layout) [-]
+  integer(ik), intent(inout) :: istate(10)                  !< counters (see layout) [-]
   integer(ik), intent(in) :: max_samples                   !< columns of samples [-]
   real(dp), intent(inout) :: samples(n_probe, max_samples) !< recorded channels [channel units]
   integer(ik), intent(out) :: n_samples                    !< columns written [-]

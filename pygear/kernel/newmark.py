@@ -88,6 +88,15 @@ class MeshTerms:
         Effects in force.
     names : list of str
         Mesh names for messages.
+    backlash : ndarray, shape (n_mesh,), optional
+        b_m >= 0 [m]: the gap between the coast flanks along b_m when the drive flanks
+        touch (module ``flank_contact`` of the kernel).  With ``separation`` the force is
+        k delta on the drive flank (s delta > 0), 0 while -b <= s delta <= 0 and
+        k_coast (delta + s b) on the coast flank.  ``inf`` (the default, None) leaves
+        the coast flank out: the teeth part without limit.
+    coast_phase : ndarray, shape (n_mesh,), optional
+        Phase of the coast flanks' mesh stiffness against the drive flanks' [mesh
+        cycles]; default 0 (the drive flank's phase, an assumption for symmetric teeth).
     """
 
     deflection: np.ndarray
@@ -98,6 +107,25 @@ class MeshTerms:
     time_varying: bool = False
     separation: bool = False
     names: list[str] = field(default_factory=list)
+    backlash: np.ndarray | None = None
+    coast_phase: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        for name, default in (("backlash", math.inf), ("coast_phase", 0.0)):
+            given = getattr(self, name)
+            values = np.full(self.size, default) if given is None else given
+            values = np.array(values, dtype=np.float64).reshape(-1)
+            if values.shape != (self.size,):
+                raise ValueError(f"MeshTerms.{name} must hold one value per mesh ({self.size})")
+            setattr(self, name, values)
+        if not np.all(self.backlash >= 0):
+            raise ValueError(
+                f"MeshTerms.backlash must be >= 0 m or inf (got {self.backlash.tolist()})"
+            )
+        if not np.all(np.isfinite(self.coast_phase)):
+            raise ValueError(
+                f"MeshTerms.coast_phase must be finite (got {self.coast_phase.tolist()})"
+            )
 
     @property
     def size(self) -> int:
@@ -145,9 +173,10 @@ class RunResult:
     steps : int
         Steps completed.
     counters : dict
-        Iterations, refactors, the most iterations in one step, mesh-steps without force,
-        and tooth-contact table evaluations (``contact_evaluations``: calls of the
-        kernel's table, each for every mesh at once; 0 at constant mesh stiffness).
+        Iterations, refactors, the most iterations in one step, mesh-steps without force
+        (``separated``) and on the coast flank (``coast``), and tooth-contact table
+        evaluations (``contact_evaluations``: calls of the kernel's table, each for every
+        mesh at once, two per step with a finite backlash; 0 at constant mesh stiffness).
     solver_wall_s : float
         Wall time spent inside the kernel [s].
     """
@@ -334,6 +363,8 @@ class BandedNewmark:
                 "angle_value": val,
                 "mean_stiffness": np.ones(1),
                 "contact_sign": np.ones(1, np.int32),
+                "backlash": np.full(1, math.inf),
+                "coast_phase": np.zeros(1),
             }
             return arguments
         ptr, idx, val = self._sparse_rows(list(meshes.deflection))
@@ -347,6 +378,8 @@ class BandedNewmark:
             "angle_value": angle_val,
             "mean_stiffness": np.asarray(meshes.mean_stiffness, dtype=np.float64),
             "contact_sign": np.asarray(meshes.contact_sign, dtype=np.int32),
+            "backlash": np.asarray(meshes.backlash, dtype=np.float64),
+            "coast_phase": np.asarray(meshes.coast_phase, dtype=np.float64),
         }
 
     def _load_arguments(self, drive, load, input_weights, output_weights) -> dict:
@@ -639,6 +672,7 @@ class BandedNewmark:
                     "separated",
                     "contact_evaluations",
                     "restarts",
+                    "coast",
                 )
             },
             solver_wall_s=solver_wall,

@@ -82,6 +82,7 @@ ISTATE_LAYOUT = (
     "separated",
     "contact_evaluations",
     "restarts",
+    "coast",
 )
 
 
