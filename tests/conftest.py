@@ -42,6 +42,9 @@ def consistent_stage(
     sun, planet = 0.060, 0.020
     carrier = (sun + planet) / math.cos(alpha)
     ring = planet + carrier * math.cos(alpha)
+    # a helical stage needs its overlap ratio (the helical contact-line law); 1.2 is a
+    # plausible value, and the matrices these stages are built for do not depend on it
+    overlap = 1.2 if helix_deg else None
     return PlanetaryStage(
         name=name,
         carrier=Carrier(mass=6.0, polar_inertia=0.07, tilt_inertia=0.04, radius=carrier),
@@ -53,8 +56,16 @@ def consistent_stage(
         ring_bearing=Bearing(radial=3e8, axial=2e8, tilt=4e6, torsional=5e7),
         sun_bearing=Bearing(radial=1e8, axial=1e8, tilt=2e6, torsional=0.0),
         planet_bearing=PlanetBearing(radial=1.2e8, axial=0.9e8, tilt=1.5e6),
-        sun_mesh=Mesh(stiffness=4e8, pressure_angle_deg=22.0, contact_ratio=1.5),
-        ring_mesh=Mesh(stiffness=6e8, pressure_angle_deg=22.0, contact_ratio=1.6, end_to_peak=0.7),
+        sun_mesh=Mesh(
+            stiffness=4e8, pressure_angle_deg=22.0, contact_ratio=1.5, overlap_ratio=overlap
+        ),
+        ring_mesh=Mesh(
+            stiffness=6e8,
+            pressure_angle_deg=22.0,
+            contact_ratio=1.6,
+            end_to_peak=0.7,
+            overlap_ratio=overlap,
+        ),
         planet_angles_deg=planet_angles_deg,
         base_helix_angle_deg=helix_deg,
         axial_position=axial_position,

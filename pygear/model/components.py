@@ -19,6 +19,16 @@ from dataclasses import dataclass, field, fields, is_dataclass
 import numpy as np
 
 from ..errors import CaseError  # re-exported: pygear.errors.CaseError
+from .gear_geometry import GearGeometry
+from .geometry_inputs import (
+    GEOMETRY_LAWS,
+    LAWS,
+    check_gear,
+    check_planetary_geometry,
+    fill_gear,
+    fill_planetary_stage,
+)
+from .values import is_finite_number, is_whole_number  # re-exported
 
 __all__ = [
     "Bearing",
@@ -32,21 +42,6 @@ __all__ = [
     "ToothDefect",
     "validate_component",
 ]
-
-
-def is_finite_number(value: object) -> bool:
-    """True for a finite real number: an int or float, or a NumPy scalar such as
-    ``np.float32`` or ``np.int64`` (not a bool, a string or None)."""
-    return (
-        isinstance(value, numbers.Real)
-        and not isinstance(value, (bool, np.bool_))
-        and math.isfinite(value)
-    )
-
-
-def is_whole_number(value: object) -> bool:
-    """True for an int or a NumPy integer scalar (not a bool)."""
-    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
 
 
 def plain_numbers(value: object) -> object:
@@ -123,6 +118,13 @@ def require_non_negative(path: str, value: float) -> None:
         )
 
 
+def derived_record() -> tuple:
+    """The ``_derived`` field of a component whose values gear geometry may fill in: the
+    (name, value) pairs filled so far (:mod:`pygear.model.geometry_inputs`), keyword-only
+    and left out of ``repr`` and comparisons."""
+    return field(default=(), repr=False, compare=False, kw_only=True)
+
+
 def looks_like_radians(value: float) -> bool:
     """True for a non-zero angle in degrees below 1 in size: no gear angle of a
     ``_deg`` parameter is that small, a value in radians often is."""
@@ -146,6 +148,7 @@ class Body:
     mass: float
     polar_inertia: float
     tilt_inertia: float
+    _derived: tuple = derived_record()
 
     def validate(self, path: str) -> None:
         for name in ("mass", "polar_inertia", "tilt_inertia"):
@@ -159,27 +162,47 @@ MODULE_PRESSURE_ANGLE_DEG = 45.0
 
 @dataclass(frozen=True)
 class Gear(Body):
-    """A gear: a body with a base radius and (optionally) a tooth number and a module.
+    """A gear: a body with a base radius and (optionally) a tooth number, a module and
+    its involute geometry.
 
     Parameters
     ----------
     base_radius : float
-        Base-circle radius r_b [m].
+        Base-circle radius r_b [m]; derived from ``geometry`` when left out (a typed
+        value must agree with it within 0.5 %).
     teeth : int or None
         Number of teeth Z; needed for phasing and the tooth-contact table.  The tooth
         numbers of meshing gears must fit their base radii (:data:`TOOTH_RATIO_TOLERANCE`).
+        Derived from ``geometry`` when left out.
     module : float or None
         Transverse module m_t [m] (the normal module over cos(beta) for a helical
         gear), optional and used only as a check: r_b = m_t Z cos(alpha_t) / 2, so
         2 r_b / (m_t Z) must be the cosine of a pressure angle in (0, 45) degrees.
+    geometry : GearGeometry or None
+        The gear's involute geometry (ISO 21771); with it the stage derives its meshes'
+        pressure angles, contact and overlap ratios and backlash, and the mesh laws
+        ``iso6336`` and ``potential_energy`` their stiffness (docs/gear_geometry.md).
+    bore_radius : float or None
+        Radius of the bore or hub seat r_int [m], for the fillet-foundation term of the
+        ``potential_energy`` law (Sainsot et al. 2004); 0 leaves the term out (a rigid
+        body).  None takes half the root radius (:data:`DEFAULT_BORE_RATIO`).  Unused
+        for a ring, whose rim the law takes as rigid.
     """
 
     base_radius: float = float("nan")
     teeth: int | None = None
     module: float | None = None
+    geometry: GearGeometry | None = None
+    bore_radius: float | None = None
+
+    def __post_init__(self) -> None:
+        fill_gear(self)
 
     def validate(self, path: str) -> None:
         super().validate(path)
+        check_gear(self, path)
+        if self.bore_radius is not None:
+            require_non_negative(f"{path}.bore_radius", self.bore_radius)
         require_positive(f"{path}.base_radius", self.base_radius)
         if self.teeth is not None and (not is_whole_number(self.teeth) or self.teeth < 3):
             raise CaseError(f"{path}.teeth must be a whole number >= 3 (got {self.teeth!r})")
@@ -200,6 +223,13 @@ class Gear(Body):
                 f"a pressure angle alpha in (0, {MODULE_PRESSURE_ANGLE_DEG:g}) deg "
                 f"(implied pressure angle: {implied})"
             )
+
+
+DEFAULT_BORE_RATIO = 0.5
+"""Bore radius over root radius of a gear whose ``bore_radius`` is left out: h_fi = r_f /
+r_int = 2, a gear body on a shaft or a planet on its bearing (Tian's 2004 pair has 2.4
+and 2.6).  The fillet foundation is the largest compliance of a tooth pair
+(docs/potential_energy.md), so a case that knows its bores should type them."""
 
 
 TOOTH_RATIO_TOLERANCE = 0.03
@@ -322,40 +352,79 @@ tooth-contact table evaluates ceil(contact_ratio) pairs per mesh and step."""
 
 @dataclass(frozen=True)
 class Mesh:
-    """A gear mesh: one spring on the line of action.
+    """A gear mesh: one spring on the line of action, with its single-pair law.
+
+    With gear geometry on both gears of the mesh (``Gear.geometry``) the stage derives
+    ``pressure_angle_deg``, ``contact_ratio``, ``overlap_ratio`` and ``backlash``
+    (typed values must agree: :mod:`pygear.model.geometry_inputs`).
 
     Parameters
     ----------
-    stiffness : float
-        Mean (synthesizing) mesh stiffness k-bar [N/m].
-    pressure_angle_deg : float
+    stiffness : float or None
+        Mean (synthesizing) mesh stiffness k-bar [N/m].  Derived by the laws
+        ``iso6336`` and ``potential_energy`` (typing it then is an error); required
+        by the others.
+    pressure_angle_deg : float or None
         Transverse operating pressure angle [deg].
-    contact_ratio : float
-        Transverse contact ratio epsilon.
+    contact_ratio : float or None
+        Transverse contact ratio epsilon_alpha.
     end_to_peak : float
         Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1]
         (the parabola of PHYSICS.md 5).
     stiffness_curve : tuple of float or None
-        Optional tabulated single-pair law: the shape of the stiffness of one tooth
+        The ``tabulated`` single-pair law: the shape of the stiffness of one tooth
         pair at equally spaced relative contact positions from the start (0) to the
-        end (``contact_ratio``) of contact, at least two samples, all >= 0.  Only the
-        shape counts: the curve is scaled so that the mean mesh stiffness over a mesh
-        cycle is ``stiffness``; linear interpolation between samples.  When given it
-        replaces the parabola (``end_to_peak`` is then unused).
+        end of contact (``contact_ratio``, plus ``overlap_ratio`` on a helical stage),
+        at least two samples, all >= 0.  Only the shape counts: the curve is scaled so
+        that the mean mesh stiffness over a mesh cycle is ``stiffness``; linear
+        interpolation between samples.
+    law : str or None
+        Single-pair law: ``parabola`` (PHYSICS.md 5), ``tabulated``
+        (``stiffness_curve``), ``helical`` (contact-line length over eps_alpha +
+        eps_beta), ``iso6336`` (ISO 6336-1 method B mean c_gamma_alpha b; a constant
+        pair stiffness on a spur stage, the helical law on a helical one) or
+        ``potential_energy`` (the pair curve of :mod:`pygear.assembly.tooth_stiffness`).
+        None: ``tabulated`` with a curve, ``helical`` on a helical stage, else
+        ``parabola``.
+    overlap_ratio : float or None
+        Overlap ratio epsilon_beta of a helical mesh (derived from geometry).  A helical
+        stage needs it, typed or derived.
+    line_load : float
+        K_A F_t / b [N/mm] of the ``iso6336`` law (below 100 it lowers the stiffness).
+    young_modulus, poisson_ratio : float
+        Material of both gears [Pa, -], for the ``potential_energy`` law.
+    backlash : float or None
+        Circumferential backlash at the working pitch circle [m]: derived from the
+        geometry (centre distance and ``thickness_allowances``) when left out, else 0;
+        reported, not yet modelled as a gap in the dynamics.
+    thickness_allowances : tuple of float
+        Normal tooth thickness allowances (A_sn1, A_sn2) [m] of the mesh geometry's
+        gears in its order: (sun, planet), (planet, ring) or (input, output gear);
+        negative thins a tooth.
     """
 
-    stiffness: float
-    pressure_angle_deg: float
-    contact_ratio: float
+    stiffness: float | None = None
+    pressure_angle_deg: float | None = None
+    contact_ratio: float | None = None
     end_to_peak: float = 0.6
     stiffness_curve: tuple[float, ...] | None = None
+    law: str | None = None
+    overlap_ratio: float | None = None
+    line_load: float = 100.0
+    young_modulus: float = 206e9
+    poisson_ratio: float = 0.3
+    backlash: float | None = None
+    thickness_allowances: tuple[float, float] = (0.0, 0.0)
+    _derived: tuple = derived_record()
 
     def __post_init__(self) -> None:
-        if self.stiffness_curve is not None and not isinstance(self.stiffness_curve, tuple):
-            try:
-                object.__setattr__(self, "stiffness_curve", tuple(self.stiffness_curve))
-            except TypeError:
-                pass  # validate() names it
+        for name in ("stiffness_curve", "thickness_allowances"):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, tuple):
+                try:
+                    object.__setattr__(self, name, tuple(value))
+                except TypeError:
+                    pass  # validate() names it
 
     @property
     def pressure_angle(self) -> float:
@@ -363,7 +432,29 @@ class Mesh:
         return math.radians(self.pressure_angle_deg)
 
     def validate(self, path: str) -> None:
-        require_positive(f"{path}.stiffness", self.stiffness)
+        if self.law is not None and self.law not in LAWS:
+            raise CaseError(
+                f"{path}.law must be one of {', '.join(LAWS)} or None (got {self.law!r})"
+            )
+        if self.law in GEOMETRY_LAWS:
+            if self.stiffness is not None:
+                raise CaseError(
+                    f"{path}.stiffness must be left out with law {self.law!r}, which derives it "
+                    f"from the gear geometry (got {self.stiffness!r})"
+                )
+        elif self.stiffness is None:
+            raise CaseError(
+                f"{path}.stiffness must be given (or choose law 'iso6336' or "
+                "'potential_energy' with gear geometry on both gears)"
+            )
+        else:
+            require_positive(f"{path}.stiffness", self.stiffness)
+        for name in ("pressure_angle_deg", "contact_ratio"):
+            if getattr(self, name) is None:
+                raise CaseError(
+                    f"{path}.{name} must be given, or derived: give both gears of the mesh a "
+                    "geometry (GearGeometry)"
+                )
         if not _finite(self.pressure_angle_deg) or not 0 < self.pressure_angle_deg < 45:
             raise CaseError(
                 f"{path}.pressure_angle_deg must lie in (0, 45) degrees "
@@ -395,6 +486,42 @@ class Mesh:
                     f"{path}.stiffness_curve must be a sequence of at least two finite numbers "
                     f">= 0, not all zero (got {curve!r})"
                 )
+            if self.law not in (None, "tabulated"):
+                raise CaseError(
+                    f"{path}.stiffness_curve is the shape of law 'tabulated', not of law "
+                    f"{self.law!r}: drop one of them"
+                )
+        elif self.law == "tabulated":
+            raise CaseError(f"{path}.law 'tabulated' needs a stiffness_curve")
+        self._validate_geometry_inputs(path)
+
+    def _validate_geometry_inputs(self, path: str) -> None:
+        """The overlap ratio, the laws' material and load, backlash and allowances."""
+        if self.overlap_ratio is not None:
+            require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
+            if self.overlap_ratio >= MAX_CONTACT_RATIO:
+                raise CaseError(
+                    f"{path}.overlap_ratio must be below {MAX_CONTACT_RATIO:g} "
+                    f"(got {self.overlap_ratio!r})"
+                )
+        require_positive(f"{path}.line_load", self.line_load)
+        require_positive(f"{path}.young_modulus", self.young_modulus)
+        if not _finite(self.poisson_ratio) or not 0 <= self.poisson_ratio < 0.5:
+            raise CaseError(
+                f"{path}.poisson_ratio must lie in [0, 0.5) (got {self.poisson_ratio!r})"
+            )
+        if self.backlash is not None:
+            require_non_negative(f"{path}.backlash", self.backlash)
+        allowances = self.thickness_allowances
+        if (
+            not isinstance(allowances, tuple)
+            or len(allowances) != 2
+            or not all(_finite(a) and abs(a) < 1.0 for a in allowances)
+        ):
+            raise CaseError(
+                f"{path}.thickness_allowances must be two lengths (A_sn1, A_sn2) in metres "
+                f"(got {allowances!r})"
+            )
 
 
 @dataclass(frozen=True)
@@ -409,7 +536,10 @@ class PlanetaryStage:
     name : str
         Stage name, the first part of every DOF and parameter path.
     carrier, ring, sun, planet : Carrier, Gear, Gear, Gear
-        The members; ``planet`` describes each of the N planets.
+        The members; ``planet`` describes each of the N planets.  With gear geometry
+        the carrier radius is the centre distance of both meshes: left out, it is the
+        sun-planet geometry's zero-backlash centre distance; typed, it must agree with
+        both meshes' within 0.5 %.
     planets : int
         Number of planets N >= 1.
     carrier_bearing, ring_bearing, sun_bearing : Bearing
@@ -420,8 +550,10 @@ class PlanetaryStage:
         Sun-planet and ring-planet meshes (the same for every planet).
     planet_angles_deg : tuple of float or None
         Angle psi_n of each planet from the x axis [deg]; equal spacing when None.
-    base_helix_angle_deg : float
-        Signed base helix angle beta_b [deg]; 0 for spur gears.
+    base_helix_angle_deg : float or None
+        Signed base helix angle beta_b [deg]; 0 for spur gears.  Left out: from the
+        gear geometry (signed with the sun's hand), else 0.  A helical stage needs an
+        overlap ratio on both meshes (typed or from geometry).
     axial_position : float
         Position of the stage centre along the gearbox z axis [m].
     mesh_phases : dict of str to float or None
@@ -444,10 +576,11 @@ class PlanetaryStage:
     sun_mesh: Mesh
     ring_mesh: Mesh
     planet_angles_deg: tuple[float, ...] | None = None
-    base_helix_angle_deg: float = 0.0
+    base_helix_angle_deg: float | None = None
     axial_position: float = 0.0
     mesh_phases: dict[str, float] | None = None
     kind: str = field(default="planetary", init=False)
+    _derived: tuple = derived_record()
 
     def __post_init__(self) -> None:
         phases = self.mesh_phases
@@ -456,6 +589,7 @@ class PlanetaryStage:
                 object.__setattr__(self, "mesh_phases", tuple(sorted(phases.items())))
             except TypeError:
                 object.__setattr__(self, "mesh_phases", tuple(phases.items()))
+        fill_planetary_stage(self)
 
     @property
     def phase_overrides(self) -> dict[str, float]:
@@ -519,19 +653,10 @@ class PlanetaryStage:
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
         if not is_whole_number(self.planets) or self.planets < 1:
             raise CaseError(f"{path}.planets must be a whole number >= 1 (got {self.planets!r})")
-        for name in (
-            "carrier",
-            "ring",
-            "sun",
-            "planet",
-            "carrier_bearing",
-            "ring_bearing",
-            "sun_bearing",
-            "planet_bearing",
-            "sun_mesh",
-            "ring_mesh",
-        ):
-            getattr(self, name).validate(f"{path}.{name}")
+        for name in ("ring", "sun", "planet"):
+            validate_component(getattr(self, name), f"{path}.{name}")
+        for name in ("carrier", "sun_mesh", "ring_mesh"):
+            validate_component(getattr(self, name), f"{path}.{name}", validate=False)
         if not _finite(self.base_helix_angle_deg) or abs(self.base_helix_angle_deg) >= 45:
             raise CaseError(
                 f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees "
@@ -543,6 +668,17 @@ class PlanetaryStage:
                 f"{self.base_helix_angle_deg!r} looks like radians "
                 f"(= {math.degrees(self.base_helix_angle_deg):.4g} deg)"
             )
+        check_planetary_geometry(self, path)
+        for name in (
+            "carrier",
+            "carrier_bearing",
+            "ring_bearing",
+            "sun_bearing",
+            "planet_bearing",
+            "sun_mesh",
+            "ring_mesh",
+        ):
+            getattr(self, name).validate(f"{path}.{name}")
         require_axial_position(f"{path}.axial_position", self.axial_position)
         if self.ring.base_radius <= self.planet.base_radius:
             raise CaseError(
@@ -659,11 +795,13 @@ class PlanetaryStage:
                 )
 
 
-def validate_component(component: object, path: str) -> None:
-    """Validate any component that has a ``validate(path)`` method."""
+def validate_component(component: object, path: str, *, validate: bool = True) -> None:
+    """Validate any component that has a ``validate(path)`` method (``validate=False``:
+    only check that it is one)."""
     if not is_dataclass(component) or not hasattr(component, "validate"):
         raise CaseError(f"{path} is not a pygear component (got {type(component).__name__})")
-    component.validate(path)
+    if validate:
+        component.validate(path)
 
 
 @dataclass(frozen=True)

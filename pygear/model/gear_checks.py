@@ -9,7 +9,7 @@ import warnings
 
 from ..errors import CaseError
 from . import gear_geometry as geo
-from .components import is_finite_number
+from .values import is_finite_number
 
 __all__ = [
     "POINTED_TIP_LIMIT",

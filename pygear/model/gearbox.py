@@ -19,12 +19,14 @@ from .components import (
     Gear,
     Mesh,
     PlanetaryStage,
+    derived_record,
     is_whole_number,
     require_axial_position,
     require_matching_teeth,
     require_non_negative,
 )
 from .components import is_finite_number as _finite
+from .geometry_inputs import check_parallel_geometry, fill_parallel_stage
 
 __all__ = [
     "CENTRAL_DOFS",
@@ -58,11 +60,16 @@ class ParallelStage:
     input_bearing, output_bearing : Bearing
         Their bearings to the housing.
     mesh : Mesh
-        The mesh (``contact_ratio`` is the transverse one).
-    overlap_ratio : float
-        Axial (overlap) contact ratio; 0 for spur gears.
-    base_helix_angle_deg : float
-        Signed base helix angle [deg].
+        The mesh (``contact_ratio`` is the transverse one).  With gear geometry on both
+        gears the mesh geometry is (input gear, output gear) at the zero-backlash
+        centre distance of the profile shifts.
+    overlap_ratio : float or None
+        Axial (overlap) contact ratio; 0 for spur gears.  Left out: from the gear
+        geometry, else ``mesh.overlap_ratio``, else 0 for a spur pair; a helical pair
+        needs one (0 typed runs it with the parabola).
+    base_helix_angle_deg : float or None
+        Signed base helix angle [deg]; left out: from the gear geometry (signed with the
+        input gear's hand), else 0.
     centre_angle_deg : float
         Direction of the line of centres [deg].
     axial_position : float
@@ -75,13 +82,17 @@ class ParallelStage:
     input_bearing: Bearing
     output_bearing: Bearing
     mesh: Mesh
-    overlap_ratio: float = 0.0
-    base_helix_angle_deg: float = 0.0
+    overlap_ratio: float | None = None
+    base_helix_angle_deg: float | None = None
     centre_angle_deg: float = 0.0
     axial_position: float = 0.0
     kind: str = field(default="parallel", init=False)
+    _derived: tuple = derived_record()
 
     member_names = ("input_gear", "output_gear")
+
+    def __post_init__(self) -> None:
+        fill_parallel_stage(self)
 
     @property
     def spur(self) -> bool:
@@ -118,18 +129,22 @@ class ParallelStage:
         path = path or self.name
         if not isinstance(self.name, str) or not self.name.isidentifier():
             raise CaseError(f"stage name must be an identifier (got {self.name!r})")
-        for name in ("input_gear", "output_gear", "input_bearing", "output_bearing", "mesh"):
+        for name in ("input_gear", "output_gear"):
+            getattr(self, name).validate(f"{path}.{name}")
+        for name in ("base_helix_angle_deg", "centre_angle_deg"):
+            if not _finite(getattr(self, name)):
+                raise CaseError(f"{path}.{name} must be finite (got {getattr(self, name)!r})")
+        if abs(self.base_helix_angle_deg) >= 45:
+            raise CaseError(f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees")
+        if self.overlap_ratio is not None:
+            require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
+        check_parallel_geometry(self, path)
+        for name in ("input_bearing", "output_bearing", "mesh"):
             getattr(self, name).validate(f"{path}.{name}")
         require_matching_teeth(
             path, {"input_gear": self.input_gear, "output_gear": self.output_gear}
         )
-        require_non_negative(f"{path}.overlap_ratio", self.overlap_ratio)
-        for name in ("base_helix_angle_deg", "centre_angle_deg"):
-            if not _finite(getattr(self, name)):
-                raise CaseError(f"{path}.{name} must be finite (got {getattr(self, name)!r})")
         require_axial_position(f"{path}.axial_position", self.axial_position)
-        if abs(self.base_helix_angle_deg) >= 45:
-            raise CaseError(f"{path}.base_helix_angle_deg must lie in (-45, 45) degrees")
         if self.spur and self.mesh.contact_ratio <= 1:
             raise CaseError(
                 f"{path}.mesh.contact_ratio must exceed 1 for a spur pair "
