@@ -28,15 +28,13 @@ from ..model.gearbox import ParallelStage
 from ..model.scene_settings import SceneSettings, scene_settings
 from .dof_rows import dof_row, rigid_rotation
 from .matrices import Model
+from .mesh_laws import LAW_CODES, mesh_law
 from .mesh_phasing import stage_phasing
 
 if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
     from ..model.case import Scene
 
-__all__ = ["LAW_CODES", "ContactTable", "build_contact_table"]
-
-LAW_CODES = {"parabola": 1, "tabulated": 2, "helical": 3}
-"""Single-pair law codes of the Fortran module."""
+__all__ = ["LAW_CODES", "ContactTable", "build_contact_table"]  # LAW_CODES: from .mesh_laws
 
 _ERRORS = {
     1: "a table entry is out of range",
@@ -223,13 +221,6 @@ class ContactTable:
             )
 
 
-def _normalised_curve(curve: tuple[float, ...]) -> np.ndarray:
-    """Samples scaled to unit mean over [0, eps] under linear interpolation (trapezoid rule)."""
-    values = np.asarray(curve, dtype=np.float64)
-    mean = (values.sum() - 0.5 * (values[0] + values[-1])) / (len(values) - 1)
-    return values / mean
-
-
 def build_contact_table(
     case: Case,
     model: Model,
@@ -253,7 +244,11 @@ def build_contact_table(
         sigma = +1 when each sun turns in +z relative to its carrier, -1 otherwise.
     sun_driven : bool
         True when the carrier drives and the sun is the output (the seed's case);
-        it decides where contact starts and so the ring-to-sun phase.
+        it decides where contact starts and so the ring-to-sun phase, and the
+        direction in which a curve computed from gear geometry is read.
+
+    Each mesh's law, mean stiffness, contact ratio and curve are those of
+    :func:`pygear.assembly.mesh_laws.mesh_law` (resolved once per case).
 
     Returns
     -------
@@ -280,18 +275,26 @@ def build_contact_table(
         prefix = f"{stage.name}." if several else ""
         if isinstance(stage, ParallelStage):
             row = _parallel_row(stage, mesh, direction * parallel_sense[stage.name])
-            component = stage.mesh
+            law = mesh_law(stage, "mesh")
         else:
             if stage.name not in phasing:
                 phasing[stage.name] = stage_phasing(
                     stage, direction=direction, sun_driven=sun_driven
                 )
             row = _planetary_row(stage, mesh, phasing[stage.name][mesh.name], direction)
-            component = getattr(stage, f"{row['central']}_mesh")
+            law = mesh_law(stage, row["central"])
         row["name"] = prefix + mesh.name
-        if component.stiffness_curve is not None:
-            curve = _normalised_curve(component.stiffness_curve)
-            row.update(law=LAW_CODES["tabulated"], start=curve_offset, size=len(curve))
+        row.update(
+            mean=law.mean_stiffness,
+            ratio=law.contact_ratio,
+            lam=law.end_to_peak,
+            law=law.code,
+            start=0,
+            size=0,
+        )
+        curve = law.oriented_curve(sun_driven)
+        if curve is not None:
+            row.update(start=curve_offset, size=len(curve))
             curves.append(curve)
             curve_offset += len(curve)
         rows.append(row)
@@ -335,21 +338,14 @@ def _planetary_row(stage: PlanetaryStage, mesh, phase, direction: int) -> dict:
         ),
         teeth=(getattr(stage, central).teeth, stage.planet.teeth),
         offset=(phase.gear_1_offset, phase.gear_2_offset),
-        mean=mesh.mean_stiffness,
-        ratio=mesh.contact_ratio,
-        lam=mesh.end_to_peak,
         phase=phase.phase,
         sign=direction,
-        law=LAW_CODES["parabola"],
-        start=0,
-        size=0,
     )
 
 
 def _parallel_row(stage: ParallelStage, mesh, sign: int) -> dict:
     """Table entry of a parallel pair: gear 1 the input gear, its absolute rotation as
-    the angle, first teeth in mesh at s = 0.  A helical pair uses the contact-length
-    law over the total contact ratio eps_a + eps_b, a spur pair the parabola."""
+    the angle, first teeth in mesh at s = 0."""
     for member in stage.member_names:
         teeth = getattr(stage, member).teeth
         if not (isinstance(teeth, int) and teeth > 0):
@@ -357,20 +353,13 @@ def _parallel_row(stage: ParallelStage, mesh, sign: int) -> dict:
                 f"{stage.name}.{member}.teeth must be a whole number > 0 for the "
                 f"time-varying mesh stiffness (got {teeth!r})"
             )
-    helical = not stage.spur and stage.overlap_ratio > 0
     return dict(
         gears=(f"{stage.name}.input_gear", f"{stage.name}.output_gear"),
         angles=(f"{stage.name}.input_gear",),
         teeth=(stage.input_gear.teeth, stage.output_gear.teeth),
         offset=(0, 0),
-        mean=mesh.mean_stiffness,
-        ratio=mesh.contact_ratio + (stage.overlap_ratio if helical else 0.0),
-        lam=stage.overlap_ratio if helical else mesh.end_to_peak,
         phase=0.0,
         sign=sign,
-        law=LAW_CODES["helical" if helical else "parabola"],
-        start=0,
-        size=0,
     )
 
 

@@ -25,6 +25,7 @@ from ..model.case import DOF_SETS, FORMULATIONS, Case, check_choice
 from ..model.components import PlanetaryStage
 from ..model.gearbox import CENTRAL_DOFS, PLANET_DOFS, ParallelStage, RigidLink, TorsionalSpring
 from ..model.scene_settings import SceneSettings, scene_settings
+from .mesh_laws import mesh_law
 
 if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
     from ..model.case import Scene
@@ -429,6 +430,7 @@ class _Builder:
                 )
                 dofs = np.concatenate([central[gear_name].dofs, node.dofs])
                 b = deflection[:size].reshape(-1, 1)
+                mean_stiffness = mesh_law(stage, gear_name).mean_stiffness  # typed or derived
                 self.springs.append(
                     SpringElement(
                         f"{stage.name}.{gear_name}-planet{n}",
@@ -436,14 +438,14 @@ class _Builder:
                         (f"{stage.name}.{gear_name}_mesh.stiffness",),
                         dofs,
                         b,
-                        np.array([mesh.stiffness]),
+                        np.array([mean_stiffness]),
                     )
                 )
                 info = dict(
                     name=f"{gear_name}-planet{n}",
                     stage=stage.name,
                     kind="external" if gear_name == "sun" else "internal",
-                    mean_stiffness=mesh.stiffness,
+                    mean_stiffness=mean_stiffness,
                     contact_ratio=mesh.contact_ratio,
                     end_to_peak=mesh.end_to_peak,
                     planet=n,
@@ -546,6 +548,7 @@ class _Builder:
             math.radians(stage.base_helix_angle_deg),
         )
         dofs = np.concatenate([gear_in.dofs, gear_out.dofs])
+        mean_stiffness = mesh_law(stage, "mesh").mean_stiffness  # typed or derived
         self.springs.append(
             SpringElement(
                 f"{stage.name}.mesh",
@@ -553,14 +556,14 @@ class _Builder:
                 (f"{stage.name}.mesh.stiffness",),
                 dofs,
                 deflection.reshape(-1, 1),
-                np.array([stage.mesh.stiffness]),
+                np.array([mean_stiffness]),
             )
         )
         info = dict(
             name="input-output",
             stage=stage.name,
             kind="external",
-            mean_stiffness=stage.mesh.stiffness,
+            mean_stiffness=mean_stiffness,
             contact_ratio=stage.mesh.contact_ratio,
             end_to_peak=stage.mesh.end_to_peak,
             planet=0,
