@@ -105,6 +105,41 @@ RUNUP = Transient(
     mean_window=1.0,  # s: equilibrium speeds are means over the last 1 s (paper)
 )
 
+# Torque reversal (not in the paper): the carrier's drive rises to +10 N m, holds, and
+# falls through zero to -10 N m; no load, so the meshes carry the inertia forces of the
+# accelerating sun and planets.  When the torque reverses the sun overruns, the drive
+# flanks part, the teeth cross the backlash and strike the coast flanks.
+REVERSAL_TORQUE = 10.0  # N m, ASSUMED: the run-up's drive, both ways
+# ASSUMED: 0.1 mm circumferential backlash j_wt on both meshes, typical for the ~3 mm
+# module of this stage (r_b/cos(alpha) 2/z = 3.15 mm): DIN 3967 tooth thickness
+# allowances of about 0.03-0.05 m_n per gear give 0.1-0.2 mm.
+REVERSAL_BACKLASH = 0.1e-3  # m
+TORQUE_REVERSAL = Transient(
+    duration=0.06,  # s, ASSUMED: the reversal and a few impacts, a short run
+    time_step=1e-5,  # s, ASSUMED: 20 steps per contact half-period of the sun on its meshes
+    sample_rate=100e3,  # Hz: every step, to see each impact
+    integrator="newmark",  # average acceleration: impacts neither damped nor amplified
+    # the contact state changes within a step: iterate it to convergence
+    equivalent_load="iterate",
+    input="planetary.carrier.theta_z",
+    output="planetary.sun.theta_z",
+    drive=TorqueLaw.table(
+        [0.0, 0.005, 0.02, 0.025, 0.06],  # s, ASSUMED ramps of 5 ms
+        [0.0, REVERSAL_TORQUE, REVERSAL_TORQUE, -REVERSAL_TORQUE, -REVERSAL_TORQUE],
+    ),
+    load=None,
+    probes=(
+        Probe("speed", "planetary.carrier"),
+        Probe("speed", "planetary.sun"),
+        Probe("mesh_force", "sun-planet1"),  # > 0 drive flank, < 0 coast flank
+        Probe("mesh_force", "ring-planet1"),
+        Probe("mesh_deflection", "sun-planet1"),
+        Probe("mesh_deflection", "ring-planet1"),
+        Probe("drive_torque"),
+    ),
+    mean_window=0.01,  # s: the last 10 ms, after the reversal
+)
+
 case = Case(
     name="yang2016_planetary",
     description="Planetary study case of Yang, Jiang & Han (2016), Table 1",
@@ -143,6 +178,18 @@ case = Case(
             effects=("time_varying_mesh_stiffness",),
             transient=RUNUP,
             parameters={"planetary.planet_angles_deg": (0.0, 120.1, 240.0)},
+        ),
+        Scene(
+            "torque_reversal",
+            analyses=("transient",),
+            formulation="improved",
+            dof_set="planar",
+            effects=("time_varying_mesh_stiffness", "tooth_separation"),
+            transient=TORQUE_REVERSAL,
+            parameters={
+                "planetary.sun_mesh.backlash": REVERSAL_BACKLASH,
+                "planetary.ring_mesh.backlash": REVERSAL_BACKLASH,
+            },
         ),
     ),
 )

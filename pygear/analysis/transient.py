@@ -22,6 +22,7 @@ import xarray as xr
 from ..assembly.dof_rows import dof_row, rigid_rotation
 from ..assembly.effects import effect_attributes
 from ..assembly.matrices import Model, assemble
+from ..assembly.mesh_backlash import line_of_action_backlash
 from ..errors import CaseError
 from ..kernel.newmark import (
     BandedNewmark,
@@ -174,6 +175,10 @@ def transient_problem(
             f"{path}.restart_at_jumps does not combine with the tooth_separation effect "
             "(an open contact is a contact state, not a stiffness jump of the table)"
         )
+    backlash = None
+    if separation and model.meshes:
+        # the teeth part within the backlash and meet again on the coast flanks
+        backlash = line_of_action_backlash(case, model, "tooth_separation")
     input_label = settings.input or _default_member(case, "carrier")
     output_label = settings.output or _default_member(case, "sun")
     input_row = _member_row(model, input_label, f"{path}.input")
@@ -229,6 +234,7 @@ def transient_problem(
             time_varying=varying,
             separation=separation,
             names=[mesh.name for mesh in model.meshes],
+            backlash=backlash,
         )
     probes = compile_probes(model, settings.probes, f"{path}.probes")
     if settings.full_state:
