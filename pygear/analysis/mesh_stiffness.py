@@ -3,7 +3,8 @@
 :func:`mesh_stiffness_at_constant_speed` runs the tooth-contact table of
 :mod:`pygear.assembly.contact_table` along the rigid-body kinematics of a constant
 carrier speed with the ring held, and returns every mesh's stiffness, loaded pairs
-and contact positions as a Dataset.
+and contact positions as a Dataset; :func:`mesh_summary` lists each mesh's law, gear
+geometry and stiffness from it.
 """
 
 from __future__ import annotations
@@ -16,12 +17,20 @@ import xarray as xr
 
 from ..assembly.contact_table import build_contact_table
 from ..assembly.matrices import assemble
+from ..assembly.mesh_laws import mesh_law
 from ..errors import CaseError
+from ..model import gear_geometry as geo
 from ..model.case import Case, Scene
 from ..model.gearbox import ParallelStage
+from ..model.geometry_inputs import parallel_mesh_geometry, planetary_mesh_geometry
 from ..resources import FLOAT_BYTES, require_memory
 
-__all__ = ["DEFAULT_CYCLES", "ContactLossWarning", "mesh_stiffness_at_constant_speed"]
+__all__ = [
+    "DEFAULT_CYCLES",
+    "ContactLossWarning",
+    "mesh_stiffness_at_constant_speed",
+    "mesh_summary",
+]
 
 DEFAULT_CYCLES = 5
 """Mesh cycles the constant-speed run covers by default (without defects)."""
@@ -219,3 +228,77 @@ def _warn_contact_loss(dataset: xr.Dataset) -> None:
                 ContactLossWarning,
                 stacklevel=3,
             )
+
+
+def _gear_pair(case: Case, gear_1: str) -> tuple:
+    """Stage, law member, the two gears (the table's order: sun or ring and planet, or
+    input and output gear) and the mesh geometry of the mesh whose gear 1 is ``gear_1``."""
+    stage_name, first = gear_1.split(".", 1)
+    stage = case.gearbox.stage(stage_name)
+    if isinstance(stage, ParallelStage):
+        gears = (stage.input_gear, stage.output_gear)
+        return stage, "mesh", gears, parallel_mesh_geometry(stage)
+    gears = (getattr(stage, first), stage.planet)
+    return stage, first, gears, planetary_mesh_geometry(stage, first)
+
+
+def mesh_summary(case: Case, dataset: xr.Dataset) -> dict[str, dict]:
+    """Each mesh's law, gear geometry and stiffness, in SI units.
+
+    Parameters
+    ----------
+    case : Case
+        The case the dataset was computed from (with any ``--law`` applied).
+    dataset : xarray.Dataset
+        Its :func:`mesh_stiffness_at_constant_speed`.
+
+    Returns
+    -------
+    dict
+        By mesh name (as in the dataset): ``law``; ``gears`` and ``teeth`` (gear 1 and
+        gear 2: sun or ring and planet, or input and output gear); ``normal_module``
+        and ``face_width`` (the common one) [m], ``profile_shift`` (pair),
+        ``helix_angle_deg`` (gear 1's, signed), ``normal_pressure_angle_deg`` and
+        ``centre_distance`` [m], all None without gear geometry on both gears;
+        ``pressure_angle_deg`` (working, transverse), ``transverse_contact_ratio``,
+        ``overlap_ratio``; ``mean_stiffness`` (the law's k-bar) and the largest and
+        smallest stiffness of the run, ``max_stiffness`` and ``min_stiffness`` [N/m];
+        ``backlash``, circumferential on the working pitch circle [m] (None: not given).
+    """
+    summary = {}
+    for index, name in enumerate(dataset.mesh.values):
+        gear_1, gear_2 = str(dataset.gear_1.values[index]), str(dataset.gear_2.values[index])
+        stage, member, gears, geometry = _gear_pair(case, gear_1)
+        law = mesh_law(stage, member)
+        mesh = stage.mesh if member == "mesh" else getattr(stage, f"{member}_mesh")
+        series = dataset.mesh_stiffness.values[:, index]
+        entry = {
+            "law": law.law,
+            "gears": [gear_1, gear_2],
+            "teeth": [gear.teeth for gear in gears],
+            "normal_module": None,
+            "face_width": None,
+            "profile_shift": None,
+            "helix_angle_deg": None,
+            "normal_pressure_angle_deg": None,
+            "centre_distance": None,
+            "pressure_angle_deg": float(mesh.pressure_angle_deg),
+            "transverse_contact_ratio": law.transverse_contact_ratio,
+            "overlap_ratio": law.overlap_ratio,
+            "mean_stiffness": law.mean_stiffness,
+            "max_stiffness": float(np.max(series)),
+            "min_stiffness": float(np.min(series)),
+            "backlash": None if mesh.backlash is None else float(mesh.backlash),
+        }
+        if geometry is not None:
+            first, second = (gear.geometry for gear in gears)
+            entry.update(
+                normal_module=float(first.normal_module),
+                face_width=float(min(first.face_width, second.face_width)),
+                profile_shift=[float(first.profile_shift), float(second.profile_shift)],
+                helix_angle_deg=float(first.helix_angle_deg),
+                normal_pressure_angle_deg=float(first.normal_pressure_angle_deg),
+                centre_distance=geo.centre_distance(geometry),
+            )
+        summary[str(name)] = entry
+    return summary
