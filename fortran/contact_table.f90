@@ -19,6 +19,20 @@
 !> share one block (a planet's sun and ring meshes share the planet's).
 !> Tabulated single-pair curves are packed the same way into curve.
 !>
+!> A damaged tooth may carry its own pair curve (from the potential-energy method,
+!> pygear.assembly.tooth_stiffness): while it is in mesh its pair follows that curve
+!> instead of the mesh's law, k_pair = (k-bar / eps) c_tooth(p) on the scale of the
+!> tabulated law (the healthy curve's unit mean sets the scale; c_tooth is not unit
+!> mean).  tooth_curve_block(g, m) is the offset of gear g's per-tooth entries in
+!> tooth_curve_start / tooth_curve_size for mesh m (-1: every tooth follows the law);
+!> an entry gives the offset of the tooth's samples in curve and their number (0: the
+!> tooth follows the law).  The blocks are per mesh: a planet tooth meets the sun and
+!> the ring with different pair curves.  When both teeth of a pair carry a curve their
+!> extra compliances add: 1/k = 1/k_1 + 1/k_2 - 1/k_law (teeth, foundation and Hertz
+!> contact in series; the faults change only their own tooth's terms), and the pair is
+!> never stiffer than either alone.  Per-tooth factors multiply the result as for any
+!> pair.
+!>
 !> Tables that Python uses are checked once and kept here, addressed by a handle
 !> (module handles): create_contact_table, contact_table_at, free_contact_table.
 module contact_table
@@ -68,6 +82,9 @@ module contact_table
     real(dp), allocatable :: curve(:)                !< packed curves, unit mean over [0, eps] [-]
     integer(ik), allocatable :: factor_start(:, :)   !< (2, n_mesh) factor offsets; -1 healthy [-]
     real(dp), allocatable :: factor(:)               !< packed per-tooth factors in [0, 1] [-]
+    integer(ik), allocatable :: tooth_curve_block(:, :) !< (2, n_mesh) per-tooth curve offsets; -1 none [-]
+    integer(ik), allocatable :: tooth_curve_start(:) !< offset of a tooth's pair curve in curve [-]
+    integer(ik), allocatable :: tooth_curve_size(:)  !< samples of a tooth's pair curve, 0 law [-]
   end type tooth_contact_table
 
   type(handle_registry), target :: registry  !< the tables Python holds handles of
@@ -85,7 +102,7 @@ contains
     real(dp), intent(out) :: position(table%max_pairs, table%n_mesh) !< p_k, 0 <= p_k < eps [mesh cycles]
     integer(ik), intent(out) :: tooth(2, table%max_pairs, table%n_mesh) !< i_k, j_k (0-based); -1 unused [-]
     integer(ik), intent(out) :: ierr                                !< error code (0 = ok)
-    integer(ik) :: m, k, z1, z2, i, j, c0, c1, f1, f2
+    integer(ik) :: m, k, z1, z2, i, j, c0, c1, f1, f2, t1, t2
     integer(i8) :: count
     real(dp) :: s, whole, p, eps, k_pair, d, total
 
@@ -113,6 +130,8 @@ contains
       c1 = table%curve_start(m) + table%curve_size(m)
       f1 = table%factor_start(1, m)
       f2 = table%factor_start(2, m)
+      t1 = table%tooth_curve_block(1, m)
+      t2 = table%tooth_curve_block(2, m)
       total = 0.0_dp
       p = s - whole
       k = 0
@@ -125,6 +144,10 @@ contains
         call pair_stiffness(table%law(m), p, table%mean_stiffness(m), eps, table%end_to_peak(m), &
                             table%curve(c0:c1), k_pair, ierr)
         if (ierr /= ct_ok) return
+        if (t1 >= 0 .or. t2 >= 0) then
+          call damaged_pair(table, m, t1, t2, i, j, p, k_pair, ierr)
+          if (ierr /= ct_ok) return
+        end if
         d = 1.0_dp
         if (f1 >= 0) d = table%factor(f1 + i + 1)
         if (f2 >= 0) d = d * table%factor(f2 + j + 1)
@@ -143,6 +166,49 @@ contains
       n_pairs(m) = k
     end do
   end subroutine evaluate_contact
+
+  !> The pair of teeth i (gear 1) and j (gear 2) at position p when either carries its
+  !> own pair curve; k_pair holds the law's value on entry.
+  pure subroutine damaged_pair(table, m, block_1, block_2, i, j, p, k_pair, ierr)
+    type(tooth_contact_table), intent(in) :: table  !< a checked table
+    integer(ik), intent(in) :: m                    !< mesh [-]
+    integer(ik), intent(in) :: block_1, block_2     !< tooth_curve_block of gears 1, 2; -1 none [-]
+    integer(ik), intent(in) :: i, j                 !< teeth of the pair (0-based) [-]
+    real(dp), intent(in) :: p                       !< relative contact position [mesh cycles]
+    real(dp), intent(inout) :: k_pair               !< law's pair stiffness in, the pair's out [N/m]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+    real(dp) :: k_tooth(2)
+    logical :: own(2)
+    integer(ik) :: g, slot, c0, c1
+
+    ierr = ct_ok
+    own = .false.
+    k_tooth = k_pair
+    do g = 1, 2
+      slot = merge(block_1 + i, block_2 + j, g == 1) + 1
+      if (merge(block_1, block_2, g == 1) < 0) cycle
+      if (table%tooth_curve_size(slot) == 0) cycle
+      own(g) = .true.
+      c0 = table%tooth_curve_start(slot) + 1
+      c1 = table%tooth_curve_start(slot) + table%tooth_curve_size(slot)
+      call pair_stiffness(law_tabulated, p, table%mean_stiffness(m), table%contact_ratio(m), &
+                          0.0_dp, table%curve(c0:c1), k_tooth(g), ierr)
+      if (ierr /= ct_ok) return
+    end do
+    if (own(1) .and. own(2)) then  ! extra compliances in series
+      if (k_tooth(1) > 0.0_dp .and. k_tooth(2) > 0.0_dp .and. k_pair > 0.0_dp) then
+        ! never stiffer than either damaged tooth alone (a law stiffer than the curves)
+        k_pair = 1.0_dp / max(1.0_dp / k_tooth(1) + 1.0_dp / k_tooth(2) - 1.0_dp / k_pair, &
+                              1.0_dp / k_tooth(1), 1.0_dp / k_tooth(2))
+      else
+        k_pair = 0.0_dp
+      end if
+    else if (own(1)) then
+      k_pair = k_tooth(1)
+    else if (own(2)) then
+      k_pair = k_tooth(2)
+    end if
+  end subroutine damaged_pair
 
   !> evaluate_contact at every state (column) of theta; bad_state names the first state
   !> that failed, and the columns of the states after it are left as they were.
@@ -283,6 +349,8 @@ contains
         ierr = ct_err_option
       end select
       if (ierr /= ct_ok) return
+      call check_tooth_curves(table, m, n_curve, ierr)
+      if (ierr /= ct_ok) return
       do g = 1, 2
         f0 = table%factor_start(g, m)
         if (f0 < -1) ierr = ct_err_argument
@@ -301,6 +369,38 @@ contains
     bad_mesh = 0
   end subroutine check_contact_table
 
+  !> The per-tooth pair curves of mesh m: blocks inside the arrays, each curve inside
+  !> curve with at least two finite samples >= 0.
+  pure subroutine check_tooth_curves(table, m, n_curve, ierr)
+    type(tooth_contact_table), intent(in) :: table  !< the table to check
+    integer(ik), intent(in) :: m                    !< mesh [-]
+    integer(ik), intent(in) :: n_curve              !< size of curve [-]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+    integer(ik) :: g, block, slot, c0, c1
+
+    ierr = ct_ok
+    do g = 1, 2
+      block = table%tooth_curve_block(g, m)
+      if (block < -1) ierr = ct_err_argument
+      if (block < 0) cycle
+      if (block + table%teeth(g, m) > size(table%tooth_curve_size)) then
+        ierr = ct_err_size
+        return
+      end if
+      do slot = block + 1, block + table%teeth(g, m)
+        if (table%tooth_curve_size(slot) == 0) cycle
+        c0 = table%tooth_curve_start(slot) + 1
+        c1 = table%tooth_curve_start(slot) + table%tooth_curve_size(slot)
+        if (table%tooth_curve_size(slot) < 2 .or. c0 < 1 .or. c1 > n_curve) then
+          ierr = ct_err_size
+          return
+        end if
+        if (.not. all(table%curve(c0:c1) >= 0.0_dp .and. table%curve(c0:c1) <= huge(1.0_dp))) &
+          ierr = ct_err_argument
+      end do
+    end do
+  end subroutine check_tooth_curves
+
   !> Every array of the table is allocated with the size its n_mesh gives.
   pure logical function consistent_sizes(table)
     type(tooth_contact_table), intent(in) :: table  !< the table to inspect
@@ -315,9 +415,12 @@ contains
                allocated(table%phase) .and. allocated(table%law) .and. &
                allocated(table%curve_start) .and. allocated(table%curve_size) .and. &
                allocated(table%curve) .and. allocated(table%factor_start) .and. &
-               allocated(table%factor))) return
+               allocated(table%factor) .and. allocated(table%tooth_curve_block) .and. &
+               allocated(table%tooth_curve_start) .and. allocated(table%tooth_curve_size))) return
     if (any(shape(table%teeth) /= [2, n]) .or. any(shape(table%tooth_offset) /= [2, n]) .or. &
-        any(shape(table%factor_start) /= [2, n])) return
+        any(shape(table%factor_start) /= [2, n]) .or. &
+        any(shape(table%tooth_curve_block) /= [2, n])) return
+    if (size(table%tooth_curve_start) /= size(table%tooth_curve_size)) return
     if (size(table%cycle_sign) /= n .or. size(table%mean_stiffness) /= n .or. &
         size(table%contact_ratio) /= n .or. size(table%end_to_peak) /= n .or. &
         size(table%phase) /= n .or. size(table%law) /= n .or. size(table%curve_start) /= n .or. &

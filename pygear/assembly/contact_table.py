@@ -12,6 +12,7 @@ tooth numbering and phases are derived in :mod:`pygear.assembly.mesh_phasing`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import weakref
 from dataclasses import dataclass
@@ -34,7 +35,8 @@ from .mesh_phasing import stage_phasing
 if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
     from ..model.case import Scene
 
-__all__ = ["LAW_CODES", "ContactTable", "build_contact_table"]  # LAW_CODES: from .mesh_laws
+# LAW_CODES: from .mesh_laws
+__all__ = ["LAW_CODES", "ContactTable", "build_contact_table", "with_tooth_curves"]
 
 _ERRORS = {
     1: "a table entry is out of range",
@@ -71,6 +73,14 @@ class ContactTable:
         Pairs per mesh the output arrays hold: ceil(max eps) + 1.
     defects : tuple of ToothDefect
         The defects the factors come from.
+    tooth_curve_block : ndarray of int32, shape (2, n_mesh), optional
+        Offsets of each gear's per-tooth entries in ``tooth_curve_start`` and
+        ``tooth_curve_size`` for each mesh (-1: every tooth follows the law); None: no
+        tooth has a curve of its own (:func:`with_tooth_curves` fills them).
+    tooth_curve_start, tooth_curve_size : ndarray of int32, optional
+        Per tooth: offset of its own pair curve in ``curve`` and its samples (0: the
+        tooth follows the mesh's law).  The curve is on the tabulated law's scale,
+        k_pair = (k-bar / eps) c(p) at p = eps q / (n - 1) (``MeshStiffness.faulty_curve``).
     """
 
     names: tuple[str, ...]
@@ -91,6 +101,9 @@ class ContactTable:
     factor: np.ndarray
     max_pairs: int
     defects: tuple[ToothDefect, ...] = ()
+    tooth_curve_block: np.ndarray | None = None
+    tooth_curve_start: np.ndarray | None = None
+    tooth_curve_size: np.ndarray | None = None
 
     @property
     def size(self) -> int:
@@ -98,7 +111,12 @@ class ContactTable:
         return len(self.names)
 
     def kernel_arguments(self) -> tuple:
-        """The table's arrays in the order ``contact_table_create`` takes them."""
+        """The table's arrays in the order ``contact_table_create`` takes them (with the
+        per-tooth curves before ``max_pairs``, as ``contact_table_create_damaged`` takes
+        them, when a tooth has one)."""
+        teeth_curves = ()
+        if self.tooth_curve_block is not None:
+            teeth_curves = (self.tooth_curve_block, self.tooth_curve_start, self.tooth_curve_size)
         return (
             self.teeth,
             self.cycle_sign,
@@ -113,6 +131,7 @@ class ContactTable:
             self.curve,
             self.factor_start,
             self.factor,
+            *teeth_curves,
             self.max_pairs,
         )
 
@@ -130,11 +149,16 @@ class ContactTable:
         """
         handle = self.__dict__.get("_handle")
         if handle is None:
-            handle, bad, ierr = _kernel.contact_table_create(*self.kernel_arguments())
+            routine = (
+                "contact_table_create"
+                if self.tooth_curve_block is None
+                else "contact_table_create_damaged"
+            )
+            handle, bad, ierr = getattr(_kernel, routine)(*self.kernel_arguments())
             if ierr:
                 where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
                 raise KernelError(
-                    f"kernel routine contact_table_create: "
+                    f"kernel routine {routine}: "
                     f"{_ERRORS.get(int(ierr), f'error code {ierr}')}{where}"
                 )
             handle = int(handle)
@@ -322,6 +346,60 @@ def build_contact_table(
     )
     table.check()
     return table
+
+
+def with_tooth_curves(
+    table: ContactTable, curves: dict[tuple[int, int, int], np.ndarray]
+) -> ContactTable:
+    """A copy of ``table`` in which damaged teeth follow their own pair curves.
+
+    Parameters
+    ----------
+    table : ContactTable
+        The table (its own tooth curves, if any, are replaced).
+    curves : dict of (mesh, gear, tooth) to ndarray
+        For mesh index ``mesh`` (0-based, the table's order), gear 1 or 2 of that mesh
+        and its 0-based tooth: the pair curve while that tooth is in mesh, on the scale
+        of the tabulated law (``MeshStiffness.faulty_curve()``), sampled at
+        p = eps q / (n - 1) over the mesh's contact ratio eps.  A planet tooth meets the
+        sun and the ring: give a curve for each mesh it is in.
+
+    Returns
+    -------
+    ContactTable
+        Checked by the kernel.
+    """
+    packed = [np.asarray(table.curve, dtype=np.float64)]
+    offset = packed[0].size
+    blocks = np.full((2, table.size), -1, dtype=np.int32)
+    starts: list[int] = []
+    sizes: list[int] = []
+    for (mesh, gear, tooth), curve in sorted(curves.items()):
+        if not (0 <= mesh < table.size and gear in (1, 2)):
+            raise ValueError(f"tooth curve key {(mesh, gear, tooth)}: no such mesh and gear")
+        teeth = int(table.teeth[gear - 1, mesh])
+        if not 0 <= tooth < teeth:
+            raise ValueError(
+                f"tooth curve key {(mesh, gear, tooth)}: tooth not in 0 .. {teeth - 1}"
+            )
+        if blocks[gear - 1, mesh] < 0:
+            blocks[gear - 1, mesh] = len(starts)
+            starts += [0] * teeth
+            sizes += [0] * teeth
+        samples = np.asarray(curve, dtype=np.float64).reshape(-1)
+        slot = blocks[gear - 1, mesh] + tooth
+        starts[slot], sizes[slot] = offset, samples.size
+        packed.append(samples)
+        offset += samples.size
+    changed = dataclasses.replace(
+        table,
+        curve=np.concatenate(packed),
+        tooth_curve_block=np.asfortranarray(blocks),
+        tooth_curve_start=np.array(starts or [0], dtype=np.int32),
+        tooth_curve_size=np.array(sizes or [0], dtype=np.int32),
+    )
+    changed.check()
+    return changed
 
 
 def _planetary_row(stage: PlanetaryStage, mesh, phase, direction: int) -> dict:
