@@ -14,9 +14,28 @@ import math
 import numpy as np
 import pytest
 
-from pygear.assembly.contact_table import LAW_CODES, ContactTable, with_tooth_curves
+from pygear import (
+    Bearing,
+    Carrier,
+    Case,
+    CaseError,
+    Gear,
+    Gearbox,
+    Mesh,
+    PlanetaryStage,
+    PlanetBearing,
+    ToothDefect,
+)
+from pygear.assembly import assemble
+from pygear.assembly.contact_table import (
+    LAW_CODES,
+    ContactTable,
+    build_contact_table,
+    with_tooth_curves,
+)
 from pygear.assembly.tooth_stiffness import ChippedTooth, RootCrack, ToothBody, mesh_stiffness
 from pygear.model import GearGeometry, MeshGeometry
+from pygear.model.gear_geometry import root_radius
 
 MODULE, WIDTH = 3.2e-3, 0.016  # m: Tian's (2004) pair, as in test_potential_energy
 TEETH = (19, 48)
@@ -97,3 +116,105 @@ def test_tooth_curve_keys_are_checked():
         with_tooth_curves(table, {(0, 1, 19): result.faulty_curve()})
     with pytest.raises(ValueError, match="no such mesh and gear"):
         with_tooth_curves(table, {(0, 3, 0): result.faulty_curve()})
+
+
+# --- a case's ToothDefect(fault=...) ---------------------------------------------------------
+
+SUN, PLANET, RING = 21, 27, 75  # teeth of a 3 mm module stage at the standard centre distance
+STAGE_MODULE, STAGE_WIDTH = 3e-3, 40e-3  # m
+
+
+def geometry_case(defect: ToothDefect, *, geometry: bool = True) -> Case:
+    """A spur planetary stage built from gear geometry (potential-energy law), or with
+    typed radii and stiffness (no geometry), holding ``defect``."""
+    gear = dict(normal_module=STAGE_MODULE, face_width=STAGE_WIDTH)
+    shapes = {
+        "sun": GearGeometry(SUN, **gear),
+        "planet": GearGeometry(PLANET, **gear),
+        "ring": GearGeometry(RING, internal=True, tip_alteration=-0.2, **gear),
+    }
+    alpha = math.radians(20.0)
+    radius = {
+        n: STAGE_MODULE * z / 2 * math.cos(alpha) for n, z in zip(shapes, (SUN, PLANET, RING))
+    }
+    teeth = {"sun": SUN, "planet": PLANET, "ring": RING}
+
+    def member(name: str, mass: float, inertia: float) -> Gear:
+        if geometry:
+            return Gear(mass=mass, polar_inertia=inertia, tilt_inertia=inertia / 2,
+                        geometry=shapes[name])  # fmt: skip
+        return Gear(mass=mass, polar_inertia=inertia, tilt_inertia=inertia / 2,
+                    base_radius=radius[name], teeth=teeth[name])  # fmt: skip
+
+    mesh = (
+        Mesh(law="potential_energy")
+        if geometry
+        else Mesh(stiffness=4e8, pressure_angle_deg=20.0, contact_ratio=1.6)
+    )
+    stage = PlanetaryStage(
+        name="stage",
+        carrier=Carrier(
+            mass=6.0,
+            polar_inertia=0.07,
+            tilt_inertia=0.04,
+            radius=(SUN + PLANET) * STAGE_MODULE / 2,
+        ),  # fmt: skip
+        ring=member("ring", 3.0, 0.06),
+        sun=member("sun", 0.8, 2e-3),
+        planet=member("planet", 0.3, 1e-4),
+        planets=3,
+        carrier_bearing=Bearing(radial=2e8, axial=1.5e8, tilt=3e6, torsional=0.0),
+        ring_bearing=Bearing(radial=3e8, axial=2e8, tilt=4e6, torsional=5e7),
+        sun_bearing=Bearing(radial=1e8, axial=1e8, tilt=2e6, torsional=0.0),
+        planet_bearing=PlanetBearing(radial=1.2e8, axial=0.9e8, tilt=1.5e6),
+        sun_mesh=mesh,
+        ring_mesh=mesh,
+    )
+    return Case(name="faulty", gearbox=Gearbox(stages=(stage,)), defects=(defect,))
+
+
+def test_a_case_fault_puts_the_damaged_curve_into_each_mesh_of_the_tooth():
+    """A root crack on sun tooth 0: each sun-planet mesh holds, for sun tooth 0, the pair
+    curve the potential-energy method gives with the crack on the sun (gear 1 of the
+    (sun, planet) geometry, the planet driving: carrier in, sun out); the ring meshes
+    hold none.  A planet tooth's crack reaches both of its meshes, on the geometry's
+    planet side (gear 2 of (sun, planet), gear 1 of (planet, ring))."""
+    crack = RootCrack(1, 1.5e-3, 45.0)
+    case = geometry_case(ToothDefect("stage.sun", 0, fault=crack))
+    table = build_contact_table(case, assemble(case))
+    stage = case.gearbox.stages[0]
+    bodies = tuple(
+        ToothBody(206e9, 0.3, 0.5 * root_radius(g.geometry)) for g in (stage.sun, stage.planet)
+    )
+    geometry = MeshGeometry(stage.sun.geometry, stage.planet.geometry,
+                            centre_distance=stage.carrier.radius)  # fmt: skip
+    expected = mesh_stiffness(geometry, bodies, fault=crack, driving_gear=2).faulty_curve()
+    for m, name in enumerate(table.names):
+        block = table.tooth_curve_block[:, m]
+        if name.startswith("ring"):
+            assert (block == -1).all()
+            continue
+        assert block[1] == -1 and block[0] >= 0  # gear 1 of the table: the sun
+        start, size = table.tooth_curve_start[block[0]], table.tooth_curve_size[block[0]]
+        np.testing.assert_allclose(table.curve[start : start + size], expected, rtol=1e-12)
+        assert (table.tooth_curve_size[block[0] + 1 : block[0] + SUN] == 0).all()
+
+    planet_case = geometry_case(ToothDefect("stage.planet2", 3, fault=crack))
+    planet_table = build_contact_table(planet_case, assemble(planet_case))
+    for m, name in enumerate(planet_table.names):
+        block = planet_table.tooth_curve_block[:, m]
+        if name.endswith("planet2"):
+            assert block[0] == -1 and block[1] >= 0  # gear 2 of the table: the planet
+            assert planet_table.tooth_curve_size[block[1] + 3] > 0
+        else:
+            assert (block == -1).all()
+
+
+def test_a_fault_without_gear_geometry_is_refused():
+    case = geometry_case(
+        ToothDefect("stage.sun", 0, fault=RootCrack(1, 1e-3, 45.0)), geometry=False
+    )
+    with pytest.raises(CaseError, match=r"fault needs gear geometry on both gears of the mesh"):
+        build_contact_table(case, assemble(case))
+    with pytest.raises(CaseError, match=r"fault must be a RootCrack, Spall or ChippedTooth"):
+        ToothDefect("stage.sun", 0, fault="crack").validate("defects[0]")

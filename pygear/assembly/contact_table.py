@@ -31,6 +31,7 @@ from .dof_rows import dof_row, rigid_rotation
 from .matrices import Model
 from .mesh_laws import LAW_CODES, mesh_law
 from .mesh_phasing import stage_phasing
+from .tooth_fault_curves import fault_curves
 
 if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
     from ..model.case import Scene
@@ -308,6 +309,7 @@ def build_contact_table(
             row = _planetary_row(stage, mesh, phasing[stage.name][mesh.name], direction)
             law = mesh_law(stage, row["central"])
         row["name"] = prefix + mesh.name
+        row["member"] = "mesh" if isinstance(stage, ParallelStage) else row["central"]
         row.update(
             mean=law.mean_stiffness,
             ratio=law.contact_ratio,
@@ -345,6 +347,9 @@ def build_contact_table(
         defects=defects,
     )
     table.check()
+    if any(defect.fault is not None for defect in defects):  # damaged teeth's own curves
+        meshes = [(m.stage, r["member"], r["gears"]) for m, r in zip(model.meshes, rows)]
+        table = with_tooth_curves(table, fault_curves(case, meshes, defects, sun_driven))
     return table
 
 

@@ -28,6 +28,7 @@ from .geometry_inputs import (
     fill_gear,
     fill_planetary_stage,
 )
+from .tooth_faults import ChippedTooth, RootCrack, Spall
 from .values import is_finite_number, is_whole_number  # re-exported
 
 __all__ = [
@@ -825,11 +826,19 @@ class ToothDefect:
         Stiffness factor of the tooth in [0, 1]: 1 healthy, below 1 a crack or
         spall, 0 a missing tooth.  It multiplies the stiffness of every tooth pair
         the tooth is part of.
+    fault : RootCrack, Spall, ChippedTooth or None
+        A geometric fault (:mod:`pygear.model.tooth_faults`): while the tooth is in mesh
+        its pair follows the potential-energy pair curve of the damaged tooth
+        (:func:`pygear.assembly.tooth_stiffness.mesh_stiffness`), scaled to the mesh's
+        mean stiffness, instead of the mesh's law.  Needs gear geometry on both gears of
+        every mesh the tooth meets; the fault's own ``gear`` index is not read (``gear``
+        above names the tooth).
     """
 
     gear: str
     tooth: int
-    factor: float
+    factor: float = 1.0
+    fault: RootCrack | Spall | ChippedTooth | None = None
 
     @property
     def stage(self) -> str:
@@ -859,4 +868,9 @@ class ToothDefect:
             raise CaseError(
                 f"{path}.factor must lie in [0, 1] (1 healthy, 0 missing tooth; "
                 f"got {self.factor!r})"
+            )
+        if self.fault is not None and not isinstance(self.fault, (RootCrack, Spall, ChippedTooth)):
+            raise CaseError(
+                f"{path}.fault must be a RootCrack, Spall or ChippedTooth "
+                f"(got {type(self.fault).__name__})"
             )
