@@ -20,6 +20,7 @@ from .model.components import (
     PlanetBearing,
     ToothDefect,
 )
+from .model.gear_geometry import GearGeometry
 from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
 from .model.transient_settings import Probe, TorqueLaw, Transient
 
@@ -30,6 +31,7 @@ __all__ = [
     "Case",
     "CaseError",
     "Gear",
+    "GearGeometry",
     "Gearbox",
     "Mesh",
     "ParallelStage",
