@@ -62,6 +62,7 @@ module newmark
   use flank_contact, only: flank_force_law, flank_compression, flank_coast
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem
+  use newmark_probes, only: record_probes
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve
   implicit none
   private
@@ -253,7 +254,7 @@ contains
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
-    integer(ik) :: info, n, kd, n_mesh, n_probe, max_samples
+    integer(ik) :: info, n, kd, n_mesh, n_probe
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
@@ -261,7 +262,6 @@ contains
     kd = problem%kd
     n_mesh = problem%n_mesh
     n_probe = int(size(probe_kind), ik)
-    max_samples = int(size(samples, 2), ik)
     n_samples = 0
     bad = 0
     ierr = nm_ok
@@ -314,7 +314,8 @@ contains
     end if
 
     if (istate(is_step) == 0) then
-      call record(q, v, a)
+      call record_probes(problem, probe_kind, probes, q, v, a, k_used, rstate, samples, &
+                         n_samples, ierr)
       if (ierr /= nm_ok) return
     end if
 
@@ -476,7 +477,8 @@ contains
         istate(is_window) = istate(is_window) + 1
       end if
       if (modulo(istate(is_step), decimation) == 0) then
-        call record(q, v, a)
+        call record_probes(problem, probe_kind, probes, q, v, a, k_used, rstate, samples, &
+                         n_samples, ierr)
         if (ierr /= nm_ok) return
       end if
     end do
@@ -610,49 +612,6 @@ contains
         bad = int(max(info, 0), ik)
       end if
     end subroutine refactor
-
-    !> Append one column of probe values.
-    subroutine record(x, xd, xdd)
-      real(dp), intent(in) :: x(:)    !< displacements [m, rad]
-      real(dp), intent(in) :: xd(:)   !< velocities [m/s, rad/s]
-      real(dp), intent(in) :: xdd(:)  !< accelerations [m/s^2, rad/s^2]
-      integer(ik) :: p, mm
-      real(dp) :: d
-      if (n_samples >= max_samples) then
-        ierr = nm_err_size
-        return
-      end if
-      n_samples = n_samples + 1
-      do p = 1, n_probe
-        select case (probe_kind(p))
-        case (probe_displacement)
-          samples(p, n_samples) = sparse_dot(probes, p, x)
-        case (probe_velocity)
-          samples(p, n_samples) = sparse_dot(probes, p, xd)
-        case (probe_acceleration)
-          samples(p, n_samples) = sparse_dot(probes, p, xdd)
-        case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast)
-          mm = probes%index(probes%ptr(p) + 1)
-          d = real(problem%contact_sign(mm), dp) * sparse_dot(problem%mesh, mm, x)
-          if (separation) then
-            if (d < -problem%backlash(mm)) then
-              d = d + problem%backlash(mm)
-            else
-              d = max(d, 0.0_dp)
-            end if
-          end if
-          samples(p, n_samples) = k_used(mm) * d
-        case (probe_mesh_stiffness)
-          samples(p, n_samples) = k_used(probes%index(probes%ptr(p) + 1))
-        case (probe_drive_torque)
-          samples(p, n_samples) = rstate(rs_drive)
-        case (probe_load_torque)
-          samples(p, n_samples) = rstate(rs_load)
-        case default
-          samples(p, n_samples) = 0.0_dp
-        end select
-      end do
-    end subroutine record
   end subroutine newmark_advance
 
 end module newmark

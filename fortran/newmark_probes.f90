@@ -1,0 +1,71 @@
+!> The output channels of the Newmark kernel (module newmark): one column of probe values
+!> per recorded step.  Linear probes are weights over the DOFs; mesh probes name a mesh
+!> and read its force or stiffness in force (with tooth separation the flank force of
+!> module flank_contact: drive > 0, free 0, coast < 0).
+module newmark_probes
+  use kinds, only: dp, ik
+  use newmark_support, only: sparse_rows, sparse_dot, probe_displacement, probe_velocity, &
+                             probe_acceleration, probe_mesh_force, probe_mesh_stiffness, &
+                             probe_drive_torque, probe_load_torque, rs_drive, rs_load, &
+                             n_rstate, ip_separation, nm_err_size
+  use newmark_problem, only: transient_problem
+  implicit none
+  private
+
+  public :: record_probes
+
+contains
+
+  !> Append one column of probe values to samples.
+  pure subroutine record_probes(problem, probe_kind, probes, x, xd, xdd, k_used, rstate, samples, &
+                                n_samples, ierr)
+    type(transient_problem), intent(in) :: problem     !< the problem
+    integer(ik), intent(in) :: probe_kind(:)           !< probe codes [-]
+    type(sparse_rows), intent(in) :: probes            !< probe weights (a mesh for mesh kinds) [-]
+    real(dp), intent(in) :: x(:)                       !< displacements [m, rad]
+    real(dp), intent(in) :: xd(:)                      !< velocities [m/s, rad/s]
+    real(dp), intent(in) :: xdd(:)                     !< accelerations [m/s^2, rad/s^2]
+    real(dp), intent(in) :: k_used(:)                  !< mesh stiffness in force [N/m]
+    real(dp), intent(in) :: rstate(n_rstate)           !< t_s [s], drive, load torque [N m]
+    real(dp), intent(inout) :: samples(:, :)           !< (probes, columns) channels [channel units]
+    integer(ik), intent(inout) :: n_samples            !< columns written [-]
+    integer(ik), intent(inout) :: ierr                 !< error code, nm_err_size when full
+    integer(ik) :: p, m
+    real(dp) :: d
+
+    if (n_samples >= size(samples, 2)) then
+      ierr = nm_err_size
+      return
+    end if
+    n_samples = n_samples + 1
+    do p = 1, int(size(probe_kind), ik)
+      select case (probe_kind(p))
+      case (probe_displacement)
+        samples(p, n_samples) = sparse_dot(probes, p, x)
+      case (probe_velocity)
+        samples(p, n_samples) = sparse_dot(probes, p, xd)
+      case (probe_acceleration)
+        samples(p, n_samples) = sparse_dot(probes, p, xdd)
+      case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast)
+        m = probes%index(probes%ptr(p) + 1)
+        d = real(problem%contact_sign(m), dp) * sparse_dot(problem%mesh, m, x)
+        if (problem%iparam(ip_separation) /= 0) then
+          if (d < -problem%backlash(m)) then
+            d = d + problem%backlash(m)
+          else
+            d = max(d, 0.0_dp)
+          end if
+        end if
+        samples(p, n_samples) = k_used(m) * d
+      case (probe_mesh_stiffness)
+        samples(p, n_samples) = k_used(probes%index(probes%ptr(p) + 1))
+      case (probe_drive_torque)
+        samples(p, n_samples) = rstate(rs_drive)
+      case (probe_load_torque)
+        samples(p, n_samples) = rstate(rs_load)
+      case default
+        samples(p, n_samples) = 0.0_dp
+      end select
+    end do
+  end subroutine record_probes
+end module newmark_probes
