@@ -29,6 +29,7 @@ from pygear import (
     Gear,
     Gearbox,
     Mesh,
+    ParallelStage,
     PlanetaryStage,
     PlanetBearing,
 )
@@ -108,7 +109,7 @@ def geometry_stage(
     )
 
 
-def case_of(stage: PlanetaryStage) -> Case:
+def case_of(stage: PlanetaryStage | ParallelStage) -> Case:
     return Case(name="geometry", gearbox=Gearbox(stages=(stage,)))
 
 
@@ -238,9 +239,7 @@ def test_potential_energy_table_reproduces_the_callers_mesh_curve():
     model = assemble(case)
     table = build_contact_table(case, model)
     for member, pair in (("sun", ("sun", "planet")), ("ring", ("planet", "ring"))):
-        geometry = MeshGeometry(
-            gears[pair[0]], gears[pair[1]], centre_distance=CARRIER_RADIUS
-        )
+        geometry = MeshGeometry(gears[pair[0]], gears[pair[1]], centre_distance=CARRIER_RADIUS)
         # the default bore is half the root radius; the ring's rim is rigid either way
         bodies = tuple(ToothBody(206e9, 0.3, 0.5 * root_radius(gears[g])) for g in pair)
         # carrier in, sun out: the planet drives the sun, the ring drives the planet,
@@ -248,8 +247,11 @@ def test_potential_energy_table_reproduces_the_callers_mesh_curve():
         caller = potential_energy(geometry, bodies, driving_gear=2)
         index = table.names.index(f"{member}-planet1")
         cycle = caller.cycle_position
-        theta = (cycle - table.phase[index]) * 2 * np.pi / (
-            table.cycle_sign[index] * table.teeth[0, index]
+        theta = (
+            (cycle - table.phase[index])
+            * 2
+            * np.pi
+            / (table.cycle_sign[index] * table.teeth[0, index])
         )
         states = np.zeros((cycle.size, table.size))
         states[:, index] = theta
@@ -291,9 +293,7 @@ def test_potential_energy_mean_is_near_iso6336_for_standard_gears():
 
 
 def helical_stage(**mesh) -> PlanetaryStage:
-    return geometry_stage(
-        helix_deg=HELIX_DEG, width=ONE_OVERLAP_WIDTH, carrier_radius=None, **mesh
-    )
+    return geometry_stage(helix_deg=HELIX_DEG, width=ONE_OVERLAP_WIDTH, carrier_radius=None, **mesh)
 
 
 def test_helical_planetary_stage_runs_the_helical_law():
@@ -505,3 +505,61 @@ def test_mesh_stiffness_json_without_geometry_has_null_geometry(capsys):
 def test_mesh_stiffness_law_needs_what_it_derives_from(capsys):
     assert main(["mesh-stiffness", "yang2016_planetary", "--law", "iso6336"]) == 2
     assert "gear geometry" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- parallel stage
+
+
+def test_helical_parallel_pair_from_geometry():
+    # 23/61 teeth, m_n = 3 mm, beta = 15 deg (input right-handed), b = 40 mm, no shift
+    beta = math.radians(HELIX_DEG)
+    first = GearGeometry(23, MODULE, WIDTH, helix_angle_deg=HELIX_DEG)
+    second = GearGeometry(61, MODULE, WIDTH, helix_angle_deg=-HELIX_DEG)
+    body = dict(mass=2.0, polar_inertia=2.5e-3, tilt_inertia=1.25e-3)
+    bearing = Bearing(radial=1e8, axial=1e8, tilt=1e6)
+    pair = ParallelStage(
+        name="pair",
+        input_gear=Gear(**body, geometry=first),
+        output_gear=Gear(**body, geometry=second),
+        input_bearing=bearing,
+        output_bearing=bearing,
+        mesh=Mesh(law="iso6336"),
+    )
+    model = assemble(case_of(pair))
+    # hand calculations: eps_beta = b sin(beta) / (pi m_n), a = (z1 + z2) m_n / (2 cos beta),
+    # tan(beta_b) = tan(beta) cos(alpha_t), tan(alpha_t) = tan(alpha_n) / cos(beta)
+    assert pair.overlap_ratio == pytest.approx(
+        WIDTH * math.sin(beta) / (math.pi * MODULE), rel=1e-14
+    )
+    assert pair.centre_distance == pytest.approx(
+        (23 + 61) * MODULE / (2 * math.cos(beta)), rel=1e-13
+    )
+    alpha_t = math.atan(math.tan(ALPHA) / math.cos(beta))
+    tan_beta_b = math.tan(beta) * math.cos(alpha_t)
+    assert math.tan(math.radians(pair.base_helix_angle_deg)) == pytest.approx(tan_beta_b, rel=1e-13)
+    law = mesh_law(pair, "mesh")
+    assert law.code == LAW_CODES["helical"]
+    assert law.contact_ratio == pytest.approx(
+        pair.mesh.contact_ratio + pair.overlap_ratio, rel=1e-14
+    )
+    iso = iso6336_mesh_stiffness(MeshGeometry(first, second)).mesh_stiffness_alpha_total
+    assert law.mean_stiffness == pytest.approx(iso, rel=1e-12)
+    (spring,) = [s for s in model.springs if s.kind == "mesh"]
+    b = spring.deflection[:3, 0]  # the input gear's x, y, z
+    assert b[2] / math.hypot(b[0], b[1]) == pytest.approx(tan_beta_b, rel=1e-12)
+
+
+def test_helical_parallel_pair_without_overlap_ratio_is_refused():
+    body = dict(mass=2.0, polar_inertia=2.5e-3, tilt_inertia=1.25e-3)
+    bearing = Bearing(radial=1e8, axial=1e8, tilt=1e6)
+    pair = ParallelStage(
+        name="pair",
+        input_gear=Gear(**body, base_radius=0.05, teeth=34),
+        output_gear=Gear(**body, base_radius=0.05, teeth=34),
+        input_bearing=bearing,
+        output_bearing=bearing,
+        mesh=Mesh(stiffness=5e8, pressure_angle_deg=21.2, contact_ratio=1.58),
+        base_helix_angle_deg=20.0,
+    )
+    with pytest.raises(CaseError, match=r"pair\.overlap_ratio must be given for a helical stage"):
+        case_of(pair).validate()

@@ -102,6 +102,10 @@ class MeshLaw:
     mirrored: bool = False
     geometry: MeshGeometry | None = None
 
+    def __post_init__(self) -> None:
+        if self.curve is not None:  # shared through the cache: nobody may change it
+            self.curve.setflags(write=False)
+
     def oriented_curve(self, sun_driven: bool = True) -> np.ndarray | None:
         """The tabulated curve for a power flow: as stored when the carrier (or input
         gear) drives, reversed along the path of contact otherwise when ``mirrored``."""
@@ -284,6 +288,4 @@ def _overridden(stage: object, member: str, attribute: str, law: str):
                 "no curve to tabulate; give it a stiffness_curve or choose a geometry law"
             )
         curve = tuple(float(c) for c in own.curve)
-    return dataclasses.replace(
-        mesh, law=law, stiffness=own.mean_stiffness, stiffness_curve=curve
-    )
+    return dataclasses.replace(mesh, law=law, stiffness=own.mean_stiffness, stiffness_curve=curve)
