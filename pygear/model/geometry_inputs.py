@@ -35,7 +35,7 @@ import math
 from ..errors import CaseError
 from . import gear_geometry as geo
 from .gear_geometry import GearGeometry, MeshGeometry
-from .values import is_finite_number
+from .values import is_finite_number, is_whole_number
 
 __all__ = [
     "GEOMETRY_LAWS",
@@ -144,7 +144,7 @@ def fill_gear(gear: object) -> None:
     radius = teeth = None
     if isinstance(geometry, GearGeometry):
         radius = _attempt(geo.base_radius, geometry)
-        teeth = geometry.teeth if isinstance(geometry.teeth, int) else None
+        teeth = int(geometry.teeth) if is_whole_number(geometry.teeth) else None
     _refill(gear, "base_radius", radius, math.nan)
     _refill(gear, "teeth", teeth, None)
 
