@@ -395,9 +395,11 @@ class Mesh:
     young_modulus, poisson_ratio : float
         Material of both gears [Pa, -], for the ``potential_energy`` law.
     backlash : float or None
-        Circumferential backlash at the working pitch circle [m]: derived from the
-        geometry (centre distance and ``thickness_allowances``) when left out, else 0;
-        reported, not yet modelled as a gap in the dynamics.
+        Circumferential backlash j_wt at the working pitch circle [m]: derived from the
+        geometry (centre distance and ``thickness_allowances``) when left out.  With the
+        ``tooth_separation`` effect the teeth part within it (on the flank normal,
+        j_wt cos(alpha_wt) cos(beta_b)) and meet again on the coast flanks; that effect
+        refuses a mesh with no backlash, typed or derived; 0 is a two-sided contact.
     thickness_allowances : tuple of float
         Normal tooth thickness allowances (A_sn1, A_sn2) [m] of the mesh geometry's
         gears in its order: (sun, planet), (planet, ring) or (input, output gear);
