@@ -17,7 +17,9 @@ import pytest
 from pygear import Case
 from pygear.analysis.modal import modal_analysis
 from pygear.assembly import assemble
-from pygear.assembly.mesh_laws import mesh_law
+from pygear.assembly.mesh_laws import mesh_law, planetary_mesh_geometry
+from pygear.assembly.tooth_stiffness import ToothBody
+from pygear.assembly.tooth_stiffness import mesh_stiffness as tooth_mesh_stiffness
 from pygear.model import MeshGeometry, centre_distance, root_radius, tip_radius
 from pygear.model.case import load_case_module
 
@@ -247,22 +249,27 @@ def mean_mesh_stiffness(nrel, stage: str, first: str, second: str) -> float:
     return mesh_law(nrel.case.gearbox.stage(stage), member).mean_stiffness
 
 
-# Stage 1's ring mesh runs 48 % above ISO under the potential-energy law, which takes
-# the ring's rim as rigid (no fillet-foundation term for an internal gear, while the
-# planet's foundation term alone is a third of the pair's compliance).  Kept visible
-# as a strict expected failure: it fails the suite once the law gives the ring a rim.
-RIGID_RING_RIM = pytest.mark.xfail(
-    strict=True, reason="potential-energy law: rigid ring rim, stage 1 ring mesh 1.48 x ISO"
-)
+# Stage 1's ring mesh is left to its own test: the potential-energy law takes the ring's
+# rim as rigid (Sainsot's fillet-foundation fit is for a tooth on a bore, not for a ring),
+# and on stage 1 that alone puts the mesh 48 % above ISO's rack-based value.
+EXTERNAL_AND_STAGE2_RING = tuple(mesh for mesh in MESHES if mesh != ("stage1", "planet", "ring"))
 
 
-@pytest.mark.parametrize(
-    "stage, first, second",
-    [
-        pytest.param(*mesh, marks=RIGID_RING_RIM) if mesh == ("stage1", "planet", "ring") else mesh
-        for mesh in MESHES
-    ],
-)
+def iso6336_reference(nrel, stage: str, first: str, second: str) -> float:
+    """ISO 6336-1 method B c_gamma_alpha b of a case mesh, by hand [N/m]."""
+    one, two = geometry(nrel, stage, first), geometry(nrel, stage, second)
+    return iso6336_by_hand(
+        one.teeth,
+        one.profile_shift,
+        None if two.internal else two.teeth,
+        two.profile_shift,
+        abs(one.helix_angle_deg),
+        min(one.face_width, two.face_width),
+        HAND_CONTACT_RATIO[(stage, first, second)],
+    )
+
+
+@pytest.mark.parametrize("stage, first, second", EXTERNAL_AND_STAGE2_RING)
 def test_mesh_stiffness_near_iso6336(nrel, stage, first, second):
     """Each mean mesh stiffness lies within 30 % of ISO 6336-1's c_gamma_alpha b.
 
@@ -273,14 +280,36 @@ def test_mesh_stiffness_near_iso6336(nrel, stage, first, second):
     the physics of a tooth pair while catching a lost factor (2, or the c_gamma_beta
     that some implementations add) or a wrong face width.
     """
-    one, two = geometry(nrel, stage, first), geometry(nrel, stage, second)
-    reference = iso6336_by_hand(
-        one.teeth,
-        one.profile_shift,
-        None if two.internal else two.teeth,
-        two.profile_shift,
-        abs(one.helix_angle_deg),
-        min(one.face_width, two.face_width),
-        HAND_CONTACT_RATIO[(stage, first, second)],
-    )
+    reference = iso6336_reference(nrel, stage, first, second)
     assert mean_mesh_stiffness(nrel, stage, first, second) == pytest.approx(reference, rel=0.3)
+
+
+def test_stage1_ring_mesh_rigid_rim_against_iso6336(nrel):
+    """The stage 1 ring mesh: above ISO with the rigid rim, within 30 % with a rim.
+
+    The law gives the ring no fillet-foundation compliance (rigid rim), so its mean
+    must lie above ISO 6336-1's value, which treats the ring as a rack on an elastic
+    body.  Giving the ring tooth a foundation as compliant as the planet's (the planet's
+    Sainsot term at the mirrored point of the path of contact, where the ring tooth is
+    loaded at the same depth) must bring the mean within the 30 % of the other meshes:
+    that the rim is the whole difference is what this checks.
+    """
+    stage = nrel.case.gearbox.stage("stage1")
+    law_mean = mean_mesh_stiffness(nrel, "stage1", "planet", "ring")
+    reference = iso6336_reference(nrel, "stage1", "planet", "ring")
+    assert law_mean > reference
+    mesh = stage.ring_mesh
+    geometry_pair = planetary_mesh_geometry(stage, "ring")
+    bodies = (  # the law reads no rim radius for an internal gear: 0 for the ring
+        ToothBody(mesh.young_modulus, mesh.poisson_ratio, stage.planet.bore_radius),
+        ToothBody(mesh.young_modulus, mesh.poisson_ratio, 0.0),
+    )
+    result = tooth_mesh_stiffness(geometry_pair, bodies, driving_gear=2)
+    pair_compliance = sum(result.compliance.values())
+    ring_foundation = result.compliance["foundation1"][::-1]  # same depth on the ring tooth
+    pair = 1.0 / (pair_compliance + ring_foundation)
+    # the mean mesh stiffness is eps_alpha times the pair curve's trapezoid mean
+    with_rim = result.contact_ratio * float(
+        (pair.sum() - 0.5 * (pair[0] + pair[-1])) / (pair.size - 1)
+    )
+    assert with_rim == pytest.approx(reference, rel=0.3)
