@@ -137,6 +137,18 @@ contains
     end if
   end function half_angle
 
+  !> Half tooth angle where the tooth meets its body: at the base circle, or at the
+  !> root circle of an external tooth whose root lies above the base circle (a large
+  !> positively shifted gear, whose involute extended to the base circle would overlap
+  !> its neighbour inside the body).  Less than pi / z leaves a tooth space.
+  pure real(dp) function root_half_angle(p)
+    real(dp), intent(in) :: p(n_gear_param)   !< gear parameters [m, rad, Pa, -]
+    root_half_angle = p(gp_half_angle)
+    if (p(gp_internal) == 0.0_dp .and. p(gp_root) > p(gp_base)) then
+      root_half_angle = p(gp_half_angle) - involute(acos(p(gp_base) / p(gp_root)))
+    end if
+  end function root_half_angle
+
   !> Check one gear's parameters; bad names the first bad entry (0 if none).
   pure subroutine check_gear(p, bad)
     real(dp), intent(in) :: p(n_gear_param)   !< gear parameters [m, rad, Pa, -]
@@ -163,7 +175,7 @@ contains
       bad = gp_root
     else if (.not. p(gp_form) > 0.0_dp) then
       bad = gp_form
-    else if (.not. (abs(p(gp_half_angle)) < pi / p(gp_teeth))) then
+    else if (.not. (abs(root_half_angle(p)) < pi / p(gp_teeth))) then
       bad = gp_half_angle
     else if (.not. (p(gp_helix_base) >= 0.0_dp .and. p(gp_helix_base) < pi / 4)) then
       bad = gp_helix_base

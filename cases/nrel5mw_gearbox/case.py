@@ -10,10 +10,9 @@ main shaft) and the generator (on the high-speed shaft).  Every gear carries its
 geometry (``Gear(geometry=GearGeometry(...))``: teeth, module, profile shift, face
 width, tip alteration); pygear derives base radii, working pressure angles, contact and
 overlap ratios, backlash and the base helix angle from it.  The four planetary meshes
-run the potential-energy law (pair curve and mean stiffness from the tooth geometry,
-bores and material); the helical pair runs the contact-line law with ISO 6336-1's mean
-stiffness, because pygear refuses it both other laws (see ``parallel``).  The scene
-``modal_iso6336`` puts ISO 6336-1's stiffness on the planetary meshes as well.
+and the helical pair run the potential-energy law (pair curve and mean stiffness from
+the tooth geometry, bores and material; the helical pair sliced along its face width).
+The scene ``modal_iso6336`` puts ISO 6336-1's stiffness on every mesh instead.
 
 Sources, as tagged in the comments below:
 
@@ -544,21 +543,18 @@ rotor = ShaftInertia(
 stage1 = planetary_stage("stage1", axial_position=0.0)
 stage2 = planetary_stage("stage2", axial_position=1.0)
 # The wheel sits on the intermediate shaft, driven by stage 2's sun; the pinion drives
-# the generator, so pygear's parallel input gear is the wheel.  Its mesh runs the helical
-# contact-line law (over eps_alpha + eps_beta, both from the geometry) with ISO 6336's
-# mean stiffness, wheel first (see iso6336_typed_mesh).  The potential-energy law is
-# refused here: with x = 0.669 the 95-tooth wheel's root circle lies above its base
-# circle, and pygear's potential-energy kernel requires the involute's half angle at the
-# base circle (0.0372 rad, a virtual tooth below the root) to stay below half the
-# angular pitch, pi/95 = 0.0331 rad, although the real tooth is sound (0.0259 rad at
-# its root circle).
+# the generator, so pygear's parallel input gear is the wheel.  Its mesh runs the
+# potential-energy law like the planetary meshes, the face width sliced along the helix
+# so that eps_beta emerges from the geometry.  With x = 0.669 the 95-tooth wheel's root
+# circle lies above its base circle: the tooth meets its body at the root circle (half
+# angle 0.0259 rad, below pi/95), not at the base circle.
 parallel = ParallelStage(
     name="parallel",
     input_gear=gear("parallel", "wheel"),
     output_gear=gear("parallel", "pinion"),
     input_bearing=WHEEL_SUPPORT,
     output_bearing=PINION_SUPPORT,
-    mesh=iso6336_typed_mesh("parallel", "wheel", "pinion", law="helical"),
+    mesh=mesh("parallel", "wheel", "pinion"),
     centre_angle_deg=0.0,  # ASSUMED: pinion beside the wheel along x
     axial_position=2.0,
 )
@@ -655,12 +651,16 @@ RUNUP = Transient(
 # ISO 6336-1 in place of the potential-energy law (scene "modal_iso6336"): pygear's
 # iso6336 law where its pinion-first order lies in the regression's range (stage 1's
 # sun mesh: the 17-tooth planet has the larger shift; the ring meshes, which have no
-# order rule), ISO's value typed with the planet first for stage 2's sun mesh.
+# order rule), ISO's value typed with the larger shift first for stage 2's sun mesh and
+# the helical pair.
 ISO6336_MESHES = {
     "stage1.sun_mesh": mesh("stage1", "sun", "planet", law="iso6336"),
     "stage1.ring_mesh": mesh("stage1", "planet", "ring", law="iso6336"),
     "stage2.sun_mesh": iso6336_typed_mesh("stage2", "sun", "planet", law="tabulated"),
     "stage2.ring_mesh": mesh("stage2", "planet", "ring", law="iso6336"),
+    # the helical pair: the contact-line law over eps_alpha + eps_beta with ISO's mean
+    # stiffness, the wheel (larger shift) first
+    "parallel.mesh": iso6336_typed_mesh("parallel", "wheel", "pinion", law="helical"),
 }
 
 # ASSUMED damping: no mass-proportional part, which would brake the rotor's rigid
