@@ -51,11 +51,16 @@ def base_root_tooth(teeth: int = 40) -> GearGeometry:
     return GearGeometry(teeth, MODULE, WIDTH, dedendum_factor=teeth * (1 - math.cos(ALPHA)) / 2)
 
 
-def tian_integrals(teeth: int, alpha1: float, crack_height: float | None = None):
+def tian_integrals(
+    teeth: int, alpha1: float, crack_height: float | None = None, root_radius: float = 0.0
+):
     """Tian (2004) eqs. for 1/k_b, 1/k_s, 1/k_a with alpha2 = pi/(2N) + inv(alpha0);
-    with ``crack_height`` h_q the cracked section h + min(h, h_q) replaces 2h."""
+    with ``crack_height`` h_q the cracked section h + min(h, h_q) replaces 2h.  A
+    ``root_radius`` above the base circle ends the integral where the involute meets it,
+    at alpha = alpha2 - sqrt((r_f / r_b)^2 - 1)."""
     rb = MODULE * teeth / 2 * math.cos(ALPHA)
     alpha2 = math.pi / (2 * teeth) + math.tan(ALPHA) - ALPHA
+    upper = alpha2 - math.sqrt(max((root_radius / rb) ** 2 - 1.0, 0.0))
     shear_modulus = YOUNG / (2 * (1 + POISSON))
 
     def height(a: float) -> float:
@@ -76,10 +81,10 @@ def tian_integrals(teeth: int, alpha1: float, crack_height: float | None = None)
     points = None
     if crack_height is not None:
         half = lambda a: rb * (math.sin(a) + (alpha2 - a) * math.cos(a)) - crack_height  # noqa: E731
-        if half(-alpha1) * half(alpha2) < 0:
-            points = [brentq(half, -alpha1, alpha2, xtol=1e-15)]
+        if half(-alpha1) * half(upper) < 0:
+            points = [brentq(half, -alpha1, upper, xtol=1e-15)]
     return [
-        quad(f, -alpha1, alpha2, epsabs=0, epsrel=1e-12, points=points, limit=200)[0]
+        quad(f, -alpha1, upper, epsabs=0, epsrel=1e-12, points=points, limit=200)[0]
         for f in integrands
     ]
 
@@ -110,6 +115,41 @@ def test_bending_shear_axial_match_tian_closed_form():
         for name, value in zip(("bending", "shear", "axial"), reference):
             assert result[name][i] == pytest.approx(value, rel=1e-9)
     assert np.all(result["foundation"] == 0.0)  # bore 0: rigid body, as in Tian
+
+
+def test_root_above_base_circle_integrates_from_the_root():
+    """A 60-tooth standard gear has its root circle (28.75 m) above its base circle
+    (28.19 m): the tooth is the involute from the root circle up, Tian's integrals with
+    their upper limit where the involute meets the root circle."""
+    gear = GearGeometry(60, MODULE, WIDTH)
+    assert geo.root_radius(gear) > geo.base_radius(gear)
+    radii = np.linspace(1.01 * geo.root_radius(gear), geo.tip_radius(gear), 5)
+    result = tooth_compliance(gear, ToothBody(YOUNG, POISSON, 0.0), radii, n_quad=32)
+    alpha2 = math.pi / 120 + math.tan(ALPHA) - ALPHA
+    rb = geo.base_radius(gear)
+    for i, radius in enumerate(radii):
+        alpha1 = math.tan(math.acos(rb / radius)) - alpha2
+        reference = tian_integrals(60, alpha1, root_radius=geo.root_radius(gear))
+        # quad to 1e-12, 32-point Gauss on analytic integrands: both at round-off
+        for name, value in zip(("bending", "shear", "axial"), reference):
+            assert result[name][i] == pytest.approx(value, rel=1e-9)
+
+
+def test_thick_rooted_tooth_is_checked_at_its_root_circle():
+    """The NREL 5 MW wheel (z = 95, x = 0.669, beta = 10 deg): its involute's half
+    angle at the base circle exceeds pi/z (a virtual tooth inside the body), at the root
+    circle it does not; the tooth is accepted and stiff."""
+    gear = GearGeometry(95, 0.014, 0.27, helix_angle_deg=10.0, profile_shift=0.669)
+    alpha_t = geo.transverse_pressure_angle(gear)
+    thickness = geo.transverse_module(gear) * (math.pi / 2 + 2 * 0.669 * math.tan(ALPHA))
+    at_base = thickness / (2 * geo.pitch_radius(gear)) + geo.involute(alpha_t)
+    rb, rf = geo.base_radius(gear), geo.root_radius(gear)
+    at_root = at_base - geo.involute(math.acos(rb / rf))
+    assert at_root < math.pi / 95 < at_base
+    radii = np.linspace(1.01 * rf, geo.tip_radius(gear), 3)
+    result = tooth_compliance(gear, ToothBody(YOUNG, POISSON, 0.0), radii)
+    bending = result["bending"]
+    assert np.all(bending > 0.0) and np.all(np.diff(bending) > 0.0)  # softer towards the tip
 
 
 @pytest.mark.parametrize(("depth", "angle"), [(0.5e-3, 45.0), (1.5e-3, 45.0), (2.5e-3, 70.0)])
