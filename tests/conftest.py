@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pygear import (
@@ -18,6 +19,7 @@ from pygear import (
     PlanetBearing,
     load_case,
 )
+from pygear.assembly.contact_table import LAW_CODES, ContactTable
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 
@@ -83,8 +85,9 @@ DOUBLE_EPSILON = 2.0**-52
 """Unit round-off of float64 [-]."""
 
 
-def rigid_to_elastic_ratio(base_radius: float, angle: float, mesh_force: float,
-                           mesh_stiffness: float) -> float:
+def rigid_to_elastic_ratio(
+    base_radius: float, angle: float, mesh_force: float, mesh_stiffness: float
+) -> float:
     """How much a mesh deflection amplifies round-off in the state.
 
     The deflection delta = b . q is a small difference of rigid-body displacements of
@@ -112,3 +115,38 @@ def roundoff_tolerance(steps: int, amplification: float, safety: float = 10.0) -
     and it stays four orders of magnitude below what a missing coupling would change.
     """
     return safety * math.sqrt(steps) * DOUBLE_EPSILON * amplification
+
+
+def single_mesh_table(
+    mean_stiffness: float,
+    contact_ratio: float,
+    law: str,
+    end_to_peak: float = 1.0,
+    curve: np.ndarray | None = None,
+    angles: tuple[str, str] = ("rotor", "ground"),
+) -> ContactTable:
+    """Tooth-contact table of one mesh with Z1 = Z2 = 1: the mesh cycle is s = theta / 2 pi.
+
+    ``law`` is a contact-table law name (``parabola``, ``tabulated``, ...), ``curve`` the
+    samples of a tabulated law, ``angles`` the labels of the two angles the mesh reads.
+    """
+    samples = np.zeros(1) if curve is None else np.asarray(curve, dtype=np.float64)
+    return ContactTable(
+        names=("mesh",),
+        gears=(("pinion", "wheel"),),
+        angles=(angles,),
+        teeth=np.ones((2, 1), dtype=np.int32, order="F"),
+        cycle_sign=np.ones(1, dtype=np.int32),
+        tooth_offset=np.zeros((2, 1), dtype=np.int32, order="F"),
+        mean_stiffness=np.array([mean_stiffness]),
+        contact_ratio=np.array([contact_ratio]),
+        end_to_peak=np.array([end_to_peak]),
+        phase=np.zeros(1),
+        law=np.array([LAW_CODES[law]], dtype=np.int32),
+        curve_start=np.zeros(1, dtype=np.int32),
+        curve_size=np.array([0 if curve is None else samples.size], dtype=np.int32),
+        curve=samples,
+        factor_start=np.full((2, 1), -1, dtype=np.int32, order="F"),
+        factor=np.ones(1),
+        max_pairs=int(math.ceil(contact_ratio)) + 1,
+    )

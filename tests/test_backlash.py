@@ -18,11 +18,10 @@ import math
 
 import numpy as np
 import pytest
-from conftest import rigid_to_elastic_ratio, roundoff_tolerance
+from conftest import rigid_to_elastic_ratio, roundoff_tolerance, single_mesh_table
 
 from pygear import CaseError
 from pygear.analysis.transient import run_transient
-from pygear.assembly.contact_table import LAW_CODES, ContactTable
 from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays, MeshTerms
 
 STIFFNESS = 1e6  # N/m
@@ -235,29 +234,6 @@ def parabola_mesh_stiffness(cycle: np.ndarray) -> np.ndarray:
     return total
 
 
-def parabola_table() -> ContactTable:
-    """One mesh with Z1 = 1 (mesh cycle s = theta / 2 pi), parabola law."""
-    return ContactTable(
-        names=("mesh",),
-        gears=(("pinion", "wheel"),),
-        angles=(("rotor", "ground"),),
-        teeth=np.ones((2, 1), dtype=np.int32, order="F"),
-        cycle_sign=np.ones(1, dtype=np.int32),
-        tooth_offset=np.zeros((2, 1), dtype=np.int32, order="F"),
-        mean_stiffness=np.array([STIFFNESS]),
-        contact_ratio=np.array([EPS]),
-        end_to_peak=np.array([END_TO_PEAK]),
-        phase=np.zeros(1),
-        law=np.array([LAW_CODES["parabola"]], dtype=np.int32),
-        curve_start=np.zeros(1, dtype=np.int32),
-        curve_size=np.zeros(1, dtype=np.int32),
-        curve=np.zeros(1),
-        factor_start=np.full((2, 1), -1, dtype=np.int32, order="F"),
-        factor=np.ones(1),
-        max_pairs=3,
-    )
-
-
 @pytest.mark.parametrize("coast_phase", [None, 0.3])
 def test_coast_flank_stiffness_is_the_table_at_the_coast_phase(coast_phase):
     """A rotor turning freely at f sets the mesh cycle s = f t; a gear held on the coast
@@ -269,7 +245,7 @@ def test_coast_flank_stiffness_is_the_table_at_the_coast_phase(coast_phase):
         mean_stiffness=np.array([STIFFNESS]),
         contact_sign=np.ones(1, dtype=int),
         angle=np.array([[1.0, 0.0]]),
-        table=parabola_table(),
+        table=single_mesh_table(STIFFNESS, EPS, "parabola", end_to_peak=END_TO_PEAK),
         time_varying=True,
         separation=True,
         names=["mesh"],

@@ -18,8 +18,9 @@ import pickle
 
 import numpy as np
 import pytest
+from conftest import single_mesh_table
 
-from pygear.assembly.contact_table import LAW_CODES, ContactTable
+from pygear.assembly.contact_table import ContactTable
 from pygear.kernel import _kernel
 from pygear.kernel.calls import KernelError
 from pygear.kernel.newmark import BandedNewmark, KernelProbe
@@ -29,25 +30,9 @@ PROBLEM_NOT_LIVE = 10  # newmark_support: nm_err_handle
 
 
 def parabola_table(mean_stiffness: float, contact_ratio: float, end_to_peak: float) -> ContactTable:
-    """One mesh with Z1 = Z2 = 1, so the mesh cycle is s = theta / 2 pi."""
-    return ContactTable(
-        names=("mesh",),
-        gears=(("pinion", "wheel"),),
-        angles=(("pinion", "carrier"),),
-        teeth=np.ones((2, 1), dtype=np.int32, order="F"),
-        cycle_sign=np.ones(1, dtype=np.int32),
-        tooth_offset=np.zeros((2, 1), dtype=np.int32, order="F"),
-        mean_stiffness=np.array([mean_stiffness]),
-        contact_ratio=np.array([contact_ratio]),
-        end_to_peak=np.array([end_to_peak]),
-        phase=np.zeros(1),
-        law=np.array([LAW_CODES["parabola"]], dtype=np.int32),
-        curve_start=np.zeros(1, dtype=np.int32),
-        curve_size=np.zeros(1, dtype=np.int32),
-        curve=np.zeros(1),
-        factor_start=np.full((2, 1), -1, dtype=np.int32, order="F"),
-        factor=np.ones(1),
-        max_pairs=math.ceil(contact_ratio) + 1,
+    """One parabola-law mesh with Z1 = Z2 = 1, so the mesh cycle is s = theta / 2 pi."""
+    return single_mesh_table(
+        mean_stiffness, contact_ratio, "parabola", end_to_peak, angles=("pinion", "carrier")
     )
 
 

@@ -18,9 +18,10 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
+from conftest import single_mesh_table
 from scipy.integrate import solve_ivp
 
-from pygear.assembly.contact_table import LAW_CODES, ContactTable
+from pygear.assembly.contact_table import ContactTable
 from pygear.kernel.newmark import (
     BandedNewmark,
     KernelProbe,
@@ -37,36 +38,6 @@ from pygear.kernel.newmark import (
 def probe(name: str, kind: str, n: int, dof: int) -> KernelProbe:
     """A displacement, velocity or acceleration probe of one DOF."""
     return KernelProbe(name, kind, np.eye(n)[dof])
-
-
-def single_mesh_table(
-    mean_stiffness: float,
-    contact_ratio: float,
-    law: str,
-    end_to_peak: float = 1.0,
-    curve: np.ndarray | None = None,
-) -> ContactTable:
-    """Tooth-contact table of one mesh with Z1 = 1: the mesh cycle is s = theta / 2 pi."""
-    samples = np.zeros(1) if curve is None else np.asarray(curve, dtype=np.float64)
-    return ContactTable(
-        names=("mesh",),
-        gears=(("pinion", "wheel"),),
-        angles=(("rotor", "ground"),),
-        teeth=np.ones((2, 1), dtype=np.int32, order="F"),
-        cycle_sign=np.ones(1, dtype=np.int32),
-        tooth_offset=np.zeros((2, 1), dtype=np.int32, order="F"),
-        mean_stiffness=np.array([mean_stiffness]),
-        contact_ratio=np.array([contact_ratio]),
-        end_to_peak=np.array([end_to_peak]),
-        phase=np.zeros(1),
-        law=np.array([LAW_CODES[law]], dtype=np.int32),
-        curve_start=np.zeros(1, dtype=np.int32),
-        curve_size=np.array([0 if curve is None else samples.size], dtype=np.int32),
-        curve=samples,
-        factor_start=np.full((2, 1), -1, dtype=np.int32, order="F"),
-        factor=np.ones(1),
-        max_pairs=int(math.ceil(contact_ratio)) + 1,
-    )
 
 
 def driven_mesh_run(
