@@ -490,37 +490,41 @@ contains
     integer, intent(in) :: n            !< number of points [-]
     real(dp), intent(out) :: node(n)    !< nodes [-]
     real(dp), intent(out) :: weight(n)  !< weights [-]
-    integer :: i, j, k
-    real(dp) :: x, p0, p1, p2, dp_dx
+    integer :: i, k
+    real(dp) :: x, p_n, dp_dx
 
     do i = 1, (n + 1) / 2
       x = cos(pi * (real(i, dp) - 0.25_dp) / (real(n, dp) + 0.5_dp))
       do k = 1, 100
-        p0 = 1.0_dp
-        p1 = x
-        do j = 2, n
-          p2 = ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-          p0 = p1
-          p1 = p2
-        end do
-        dp_dx = n * (x * p1 - p0) / (x * x - 1.0_dp)
-        if (abs(p1 / dp_dx) < 1.0e-16_dp) exit
-        x = x - p1 / dp_dx
+        call legendre(n, x, p_n, dp_dx)
+        if (abs(p_n / dp_dx) < 1.0e-16_dp) exit
+        x = x - p_n / dp_dx
       end do
-      p0 = 1.0_dp
-      p1 = x
-      do j = 2, n
-        p2 = ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-        p0 = p1
-        p1 = p2
-      end do
-      dp_dx = n * (x * p1 - p0) / (x * x - 1.0_dp)
+      call legendre(n, x, p_n, dp_dx)
       node(i) = -x
       node(n + 1 - i) = x
       weight(i) = 2.0_dp / ((1.0_dp - x * x) * dp_dx**2)
       weight(n + 1 - i) = weight(i)
     end do
   end subroutine gauss_legendre
+
+  !> Legendre polynomial P_n(x) and its derivative by the three-term recurrence.
+  pure subroutine legendre(n, x, p_n, dp_dx)
+    integer, intent(in) :: n            !< degree, >= 1 [-]
+    real(dp), intent(in) :: x           !< argument in (-1, 1) [-]
+    real(dp), intent(out) :: p_n        !< P_n(x) [-]
+    real(dp), intent(out) :: dp_dx      !< P_n'(x) [-]
+    real(dp) :: p_previous, p_next
+    integer :: j
+    p_previous = 1.0_dp
+    p_n = x
+    do j = 2, n
+      p_next = ((2 * j - 1) * x * p_n - (j - 1) * p_previous) / j
+      p_previous = p_n
+      p_n = p_next
+    end do
+    dp_dx = n * (x * p_n - p_previous) / (x * x - 1.0_dp)
+  end subroutine legendre
 
   !> Load-bearing section at X: centre-line half height h and the height H that
   !> carries load, for the healthy tooth or its damaged width.
