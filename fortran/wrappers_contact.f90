@@ -4,53 +4,14 @@
 !> the other routines take the handle.  Nothing is computed here beyond looping over
 !> states; the Newmark loop calls the module directly.
 
+!> Check a table and keep it under a handle.  Damaged teeth may carry their own pair
+!> curves (packed in curve; see module contact_table); a table without them passes
+!> tooth_curve_block = -1 and one-element tooth_curve_start/size.
 subroutine contact_table_create(n_mesh, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                                contact_ratio, end_to_peak, phase, law, curve_start, curve_size, &
-                                n_curve, curve, factor_start, n_factor, factor, max_pairs, &
-                                handle, bad_mesh, ierr)
-  use kinds, only: dp, ik
-  use contact_table, only: tooth_contact_table, create_contact_table
-  implicit none
-  integer(ik), intent(in) :: n_mesh                   !< number of meshes [-]
-  integer(ik), intent(in) :: teeth(2, n_mesh)         !< Z1, Z2 [-]
-  integer(ik), intent(in) :: cycle_sign(n_mesh)       !< +1 or -1 [-]
-  integer(ik), intent(in) :: tooth_offset(2, n_mesh)  !< i0, j0 (0-based) [-]
-  real(dp), intent(in) :: mean_stiffness(n_mesh)      !< k-bar [N/m]
-  real(dp), intent(in) :: contact_ratio(n_mesh)       !< epsilon [-]
-  real(dp), intent(in) :: end_to_peak(n_mesh)         !< lambda, or eps_b (helical) [-]
-  real(dp), intent(in) :: phase(n_mesh)               !< gamma [mesh cycles]
-  integer(ik), intent(in) :: law(n_mesh)              !< law code (1 parabola, 2 tabulated, 3 helical) [-]
-  integer(ik), intent(in) :: curve_start(n_mesh)      !< curve offsets [-]
-  integer(ik), intent(in) :: curve_size(n_mesh)       !< curve sample counts [-]
-  integer(ik), intent(in) :: n_curve                  !< size of curve [-]
-  real(dp), intent(in) :: curve(n_curve)              !< packed unit-mean curves [-]
-  integer(ik), intent(in) :: factor_start(2, n_mesh)  !< factor offsets, -1 healthy [-]
-  integer(ik), intent(in) :: n_factor                 !< size of factor [-]
-  real(dp), intent(in) :: factor(n_factor)            !< packed per-tooth factors [-]
-  integer(ik), intent(in) :: max_pairs                !< pairs per mesh the outputs hold [-]
-  integer(ik), intent(out) :: handle                  !< the table's handle, 0 on error [-]
-  integer(ik), intent(out) :: bad_mesh                !< first mesh at fault (1-based), 0 if none [-]
-  integer(ik), intent(out) :: ierr                    !< error code (0 = ok)
-  call create_contact_table(tooth_contact_table(n_mesh=n_mesh, max_pairs=max_pairs, teeth=teeth, &
-                                                cycle_sign=cycle_sign, tooth_offset=tooth_offset, &
-                                                mean_stiffness=mean_stiffness, &
-                                                contact_ratio=contact_ratio, &
-                                                end_to_peak=end_to_peak, phase=phase, law=law, &
-                                                curve_start=curve_start, curve_size=curve_size, &
-                                                curve=curve, factor_start=factor_start, &
-                                                factor=factor, &
-                                                tooth_curve_block=spread([-1_ik, -1_ik], 2, n_mesh), &
-                                                tooth_curve_start=[0_ik], tooth_curve_size=[0_ik]), &
-                            handle, bad_mesh, ierr)
-end subroutine contact_table_create
-
-!> contact_table_create with damaged teeth that carry their own pair curves (packed in
-!> curve; see module contact_table).
-subroutine contact_table_create_damaged(n_mesh, teeth, cycle_sign, tooth_offset, mean_stiffness, &
-                                        contact_ratio, end_to_peak, phase, law, curve_start, &
-                                        curve_size, n_curve, curve, factor_start, n_factor, &
-                                        factor, tooth_curve_block, n_tooth, tooth_curve_start, &
-                                        tooth_curve_size, max_pairs, handle, bad_mesh, ierr)
+                                contact_ratio, end_to_peak, phase, law, curve_start, &
+                                curve_size, n_curve, curve, factor_start, n_factor, &
+                                factor, tooth_curve_block, n_tooth, tooth_curve_start, &
+                                tooth_curve_size, max_pairs, handle, bad_mesh, ierr)
   use kinds, only: dp, ik
   use contact_table, only: tooth_contact_table, create_contact_table
   implicit none
@@ -89,7 +50,7 @@ subroutine contact_table_create_damaged(n_mesh, teeth, cycle_sign, tooth_offset,
                                                 tooth_curve_start=tooth_curve_start, &
                                                 tooth_curve_size=tooth_curve_size), &
                             handle, bad_mesh, ierr)
-end subroutine contact_table_create_damaged
+end subroutine contact_table_create
 
 subroutine contact_table_free(handle, ierr)
   use kinds, only: ik

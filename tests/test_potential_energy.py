@@ -253,6 +253,9 @@ def test_tabulated_curve_reproduces_mesh_in_contact_table():
         curve,
         -np.ones((2, 1), np.int32, order="F"),
         np.ones(1),
+        -np.ones((2, 1), np.int32, order="F"),  # no tooth with a curve of its own
+        np.zeros(1, np.int32),
+        np.zeros(1, np.int32),
         4,
     )
     handle, _, ierr = _kernel.contact_table_create(*args)

@@ -112,12 +112,13 @@ class ContactTable:
         return len(self.names)
 
     def kernel_arguments(self) -> tuple:
-        """The table's arrays in the order ``contact_table_create`` takes them (with the
-        per-tooth curves before ``max_pairs``, as ``contact_table_create_damaged`` takes
-        them, when a tooth has one)."""
-        teeth_curves = ()
+        """The table's arrays in the order ``contact_table_create`` takes them; without
+        damaged teeth' own curves, a block of -1 (none) and one-element offsets."""
         if self.tooth_curve_block is not None:
             teeth_curves = (self.tooth_curve_block, self.tooth_curve_start, self.tooth_curve_size)
+        else:
+            none = np.full((2, self.size), -1, dtype=np.int32, order="F")
+            teeth_curves = (none, np.zeros(1, np.int32), np.zeros(1, np.int32))
         return (
             self.teeth,
             self.cycle_sign,
@@ -150,12 +151,8 @@ class ContactTable:
         """
         handle = self.__dict__.get("_handle")
         if handle is None:
-            routine = (
-                "contact_table_create"
-                if self.tooth_curve_block is None
-                else "contact_table_create_damaged"
-            )
-            handle, bad, ierr = getattr(_kernel, routine)(*self.kernel_arguments())
+            routine = "contact_table_create"
+            handle, bad, ierr = _kernel.contact_table_create(*self.kernel_arguments())
             if ierr:
                 where = f" (mesh {self.names[bad - 1]})" if bad > 0 else ""
                 raise KernelError(
