@@ -150,3 +150,15 @@ def single_mesh_table(
         factor=np.ones(1),
         max_pairs=int(math.ceil(contact_ratio)) + 1,
     )
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """One 2-worker cluster of threads (no processes, no dashboard) for a test module."""
+    import distributed
+
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+    )
+    yield cluster.scheduler_address
+    cluster.close()

@@ -19,29 +19,16 @@ from pygear import CaseError, Scene, load_case
 from pygear.analysis.modal import modal_analysis
 from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
+from pygear.cli import batch as batch_cli
 from pygear.model.case import replace_parameter
-
-distributed = pytest.importorskip("distributed")
-
-from pygear.cli import batch as batch_cli  # noqa: E402
-from pygear.runs import batch, sweep  # noqa: E402
-from pygear.runs.cluster import jobqueue_cluster, validate_cluster_options  # noqa: E402
+from pygear.runs import batch, sweep
+from pygear.runs.cluster import jobqueue_cluster, validate_cluster_options
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
 PLANETARY = CASES / "yang2016_planetary"
 SUN = "planetary.sun_mesh.stiffness"
 RING = "planetary.ring_mesh.stiffness"
-
-
-@pytest.fixture(scope="module")
-def scheduler():
-    """One 2-worker cluster of threads for the whole module."""
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
-    )
-    yield cluster.scheduler_address
-    cluster.close()
 
 
 def reference(case, assignments, scene="modal"):

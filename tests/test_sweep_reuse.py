@@ -15,12 +15,9 @@ from pygear import CaseError, load_case
 from pygear import io as pygear_io
 from pygear.analysis.modal import modal_analysis
 from pygear.assembly import assemble
+from pygear.cli import batch
 from pygear.model.case import replace_parameter
-
-distributed = pytest.importorskip("distributed")
-
-from pygear.cli import batch  # noqa: E402
-from pygear.runs import sweep  # noqa: E402
+from pygear.runs import sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANETARY = ROOT / "cases" / "yang2016_planetary"
@@ -35,16 +32,6 @@ PAIRS = [(1e8, 3e8), (4e8, 6e8), (9e8, 2e8)]
 # trip is exact); against a fresh eigen-solution in this process, 1e-10 allows the
 # round-off of LAPACK's symmetric eigensolver between two calls on the same matrices.
 RTOL = 1e-10
-
-
-@pytest.fixture(scope="module")
-def scheduler():
-    """One 2-worker cluster of threads for the whole module."""
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
-    )
-    yield cluster.scheduler_address
-    cluster.close()
 
 
 @pytest.fixture
