@@ -1,4 +1,4 @@
-!> Tooth-contact table (PHYSICS.md 5): the stiffness of every mesh at a state.
+!> Tooth-contact table (docs/model.md section 5.1): the stiffness of every mesh at a state.
 !>
 !> For mesh m the mesh cycle is s = sign_m Z1 theta_m / (2 pi) + gamma_m, with
 !> theta_m the rotation of gear 1 relative to the carrier and sign_m = +1 or -1
@@ -48,7 +48,7 @@ module contact_table
   public :: ct_ok, ct_err_argument, ct_err_option, ct_err_size, ct_err_state, ct_err_handle, &
             ct_err_full
 
-  integer(ik), parameter :: law_parabola = 1   !< mean-preserving parabola (PHYSICS.md 5)
+  integer(ik), parameter :: law_parabola = 1   !< mean-preserving parabola (docs/model.md section 5.2)
   integer(ik), parameter :: law_tabulated = 2  !< tabulated curve, linear interpolation
   integer(ik), parameter :: law_helical = 3    !< helical contact-line length (trapezoid)
 

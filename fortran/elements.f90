@@ -1,4 +1,4 @@
-!> Element matrices of the rigid multibody gear model (PHYSICS.md section 3).
+!> Element matrices of the rigid multibody gear model (docs/model.md section 3).
 !>
 !> Every elastic element is a set of linear springs, each given by a deflection
 !> vector b over the element's node DOFs (deflection = b . q) and a stiffness k,
@@ -126,7 +126,7 @@ contains
   end subroutine central_bearing
 
   !> Planet bearing between the carrier and planet n, in the planet's revolving
-  !> frame (PHYSICS.md 3.3); springs on zeta, eta, z, theta_zeta, theta_eta.
+  !> frame (docs/model.md section 3.3); springs on zeta, eta, z, theta_zeta, theta_eta.
   subroutine planet_bearing(planet_angle, carrier_radius, radial, axial, tilt, &
                             deflection, stiffness, ierr)
     real(dp), intent(in) :: planet_angle        !< planet angle psi_n [rad]
@@ -166,7 +166,7 @@ contains
     deflection(6 + 5, 5) = -1.0_dp
   end subroutine planet_bearing
 
-  !> Mesh of a central gear (sun or ring) with planet n (PHYSICS.md 3.4).
+  !> Mesh of a central gear (sun or ring) with planet n (docs/model.md section 3.4).
   !>
   !> The contact normal is n = cos(beta_b) d + sin(beta_b) e_z with d the line of
   !> action in the transverse plane; translations see n, tilts see p x n with p
@@ -252,7 +252,7 @@ contains
     deflection(10:12) = -cross(pitch_2, normal)
   end subroutine parallel_mesh
 
-  !> Speed-dependent planet terms at nominal carrier speed (PHYSICS.md 3.6):
+  !> Speed-dependent planet terms at nominal carrier speed (docs/model.md section 3.6):
   !> Coriolis 2 m Omega [[0, -1], [1, 0]] and centrifugal softening -m Omega^2
   !> on (zeta, eta).
   subroutine planet_speed_terms(mass, carrier_speed, gyroscopic, centrifugal)

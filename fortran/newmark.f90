@@ -1,4 +1,5 @@
-!> Banded implicit time integration of M qdd + C qd + K0 q = F(t) - N(q, t) (PHYSICS.md 5, 6).
+!> Banded implicit time integration of M qdd + C qd + K0 q = F(t) - N(q, t)
+!> (docs/model.md sections 5 and 6).
 !>
 !> Scheme: generalized-alpha (Chung & Hulbert) with parameters beta, gamma, alpha_m,
 !> alpha_f; alpha_m = alpha_f = 0, beta = 1/4, gamma = 1/2 is the average-acceleration

@@ -252,7 +252,11 @@ def _umask() -> int:
 def write_netcdf(
     dataset: xr.Dataset, path: str | os.PathLike, *, title: str, input_hash: str | None = None
 ) -> Path:
-    """Write ``dataset`` to NetCDF4 atomically with the global attributes of ARCHITECTURE.md.
+    """Write ``dataset`` to NetCDF4 atomically, with CF global attributes.
+
+    ``Conventions``, ``title``, ``source`` (pygear's version and git revision), ``history``
+    and, when given, ``input_hash`` join the dataset's own attributes; the file appears
+    under its name only when complete (:func:`atomic_path`).
 
     Parameters
     ----------

@@ -222,7 +222,7 @@ EPS, END_TO_PEAK = 1.6, 0.6
 
 
 def parabola_mesh_stiffness(cycle: np.ndarray) -> np.ndarray:
-    """Mesh stiffness of the parabola law (PHYSICS.md 5) at mesh cycles s: the pairs at
+    """Mesh stiffness of the parabola law (docs/model.md §5.2) at mesh cycles s: the pairs at
     p = frac(s) + k < eps, each k_pk [1 - (1 - lambda)(2 p / eps - 1)^2] with
     k_pk = 3 k-bar / (eps (2 + lambda))."""
     peak = 3 * STIFFNESS / (EPS * (2 + END_TO_PEAK))

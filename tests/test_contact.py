@@ -1,8 +1,8 @@
 """Tests of the tooth-contact table (pygear.assembly.contact_table, pygear.assembly.mesh_phasing,
 Fortran contact_table).
 
-References come from PHYSICS.md 5 (the parabola, k_pk, the tooth formula), from
-exact quadrature, from the kinematics of PHYSICS.md 2, and from contact geometry
+References come from docs/model.md §5 (the parabola, k_pk, the tooth formula), from
+exact quadrature, from the kinematics of docs/model.md §2, and from contact geometry
 recomputed here by intersecting circles with the line of action; never from the
 code's own output.
 """
@@ -127,7 +127,10 @@ def stiffness_at(table, s: np.ndarray) -> dict:
 
 
 def parabola(p, kbar, eps, lam):
-    """PHYSICS.md 5: k_pk [1 - (1 - lambda)(2p/eps - 1)^2], k_pk = 3 kbar / (eps (2 + lambda))."""
+    """The single-pair parabola of docs/model.md §5.2.
+
+    k_pk [1 - (1 - lambda)(2p/eps - 1)^2], k_pk = 3 kbar / (eps (2 + lambda)).
+    """
     k_pk = 3 * kbar / (eps * (2 + lam))
     return k_pk * (1 - (1 - lam) * (2 * p / eps - 1) ** 2)
 
@@ -589,7 +592,7 @@ def test_helical_pair_follows_its_contact_line_length():
     """A helical pair's stiffness is proportional to its contact-line length: each pair
     contributes min(p, eps_g - p, eps_a, eps_b) / (eps_a eps_b) k-bar over the total
     contact ratio eps_g = eps_a + eps_b, so the mean stays k-bar (textbook helical
-    gearing; PHYSICS.md 5)."""
+    gearing; docs/model.md §5.2)."""
     case = load_case(Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox")
     dataset = mesh_stiffness_at_constant_speed(case, carrier_speed_rpm=60.0, duration=0.1)
     stage = case.gearbox.stages[2]

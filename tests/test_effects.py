@@ -1,4 +1,4 @@
-"""Effects as the scene's contract (PHYSICS.md 7, issue #5): pruning is exact, an effect
+"""Effects as the scene's contract (docs/model.md §7): pruning is exact, an effect
 left out costs nothing, every output records what was in force, contradictions are refused."""
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ def planar_spatial_tolerance(study_case, run) -> float:
 
 
 def test_planar_run_equals_spatial_run_in_plane(study_case, planar_and_spatial):
-    """A spur stage's out-of-plane DOFs are decoupled (PHYSICS.md 7): the planar run's
+    """A spur stage's out-of-plane DOFs are decoupled (docs/model.md §7): the planar run's
     in-plane answers equal the spatial run's to round-off, with time-varying stiffness on.
 
     The two runs solve different systems, so they round differently: the bound is

@@ -145,7 +145,7 @@ def test_null_space_is_the_kinematic_rotation(study_case, formulation):
 
 
 def test_planet_mass_formulations_kinetic_energy():
-    """The consistent planet mass is the exact kinetic energy of PHYSICS.md 3.1."""
+    """The consistent planet mass is the exact kinetic energy of docs/model.md §3.1."""
     m, i_t, i_p, r_c = 0.66, 0.7e-3, 1.53e-3, 0.0969
     (
         translation,

@@ -1,4 +1,4 @@
-"""Run-up of the seed's gearbox (section 6, Tables 7 and 8; PHYSICS.md 6).
+"""Run-up of the seed's gearbox (section 6, Tables 7 and 8; docs/model.md §6.3).
 
 References are derived here from the case's own inputs: kinematic ratios from the
 base radii, J_eq from the inertias and those ratios, the work-energy balance from
@@ -48,7 +48,7 @@ def short_runs(gearbox_case) -> dict[str, xr.Dataset]:
 
 
 def _kinematic_speeds(case, carrier_rpm: float) -> dict[str, float]:
-    """Every member's speed from the base radii, rings held (PHYSICS.md 2)."""
+    """Every member's speed from the base radii, rings held (docs/model.md §2)."""
     stage1, stage2, parallel = case.gearbox.stages
     speeds = {}
     carrier = carrier_rpm
@@ -69,7 +69,7 @@ def _kinematic_speeds(case, carrier_rpm: float) -> dict[str, float]:
 
 
 def _equivalent_inertia(case) -> float:
-    """Whole-train inertia reduced to stage 1's carrier (improved model, PHYSICS.md 3.1)."""
+    """Whole-train inertia reduced to stage 1's carrier (improved model, docs/model.md §3.1)."""
     total, factor = 0.0, 1.0  # factor: (stage carrier speed / input speed)^2
     for stage in case.gearbox.stages[:2]:
         ratio = 1 + stage.ring.base_radius / stage.sun.base_radius

@@ -3,7 +3,7 @@ live at once, each answers for itself, and a freed handle is refused.
 
 References are closed forms derived here: the mean-preserving parabola of a single
 tooth pair, k = 3 kbar / (eps (2 + lambda)) [1 - (1 - lambda)(2 p / eps - 1)^2]
-(PHYSICS.md 5), and the displacement of an undamped oscillator under the
+(docs/model.md §5.2), and the displacement of an undamped oscillator under the
 average-acceleration Newmark rule started on its equation of motion,
 x_n = x0 cos(n w~ dt) with tan(w~ dt / 2) = w dt / 2 (Hughes, *The Finite Element
 Method*, 9.3: the rule keeps the amplitude and shortens the frequency).

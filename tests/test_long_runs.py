@@ -140,7 +140,7 @@ def steady(study_case):
 
 def _errors(steady: dict, steps: int) -> dict:
     """Deflection and speed errors of a run against the exact steady state, and the
-    rounding floors of PHYSICS.md 6's absolute angles at its largest angle."""
+    rounding floors of the absolute angles (docs/model.md §6.4) at its largest angle."""
     run = steady["runs"][steps]["result"]
     model, rigid, omega = steady["model"], steady["rigid"], steady["omega"]
     n_mesh = len(model.meshes)

@@ -1,5 +1,5 @@
 """Modal analysis against the seed's Table 2, Lin & Parker (1999) and the structural
-properties of equally spaced planetary gears (VALIDATION.md)."""
+properties of equally spaced planetary gears (Lin & Parker 1999)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from pygear.analysis.modal import modal_analysis
 from pygear.analysis.sensitivity import frequency_sensitivity
 from pygear.assembly import assemble
 
-# VALIDATION.md, seed Table 2 (N = 3)
+# Yang, Jiang & Han (2016) Table 2 (N = 3)
 TABLE2_ROTATIONAL = {
     "improved": [0, 1334.0, 1891.3, 2662.8, 8045.4, 11822.3],
     "lin-parker": [0, 1477.4, 1930.8, 2664.1, 7467.2, 11807],

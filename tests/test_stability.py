@@ -7,7 +7,7 @@ rho_inf that HHT-alpha and generalized-alpha promise (Chung & Hulbert 1993), the
 modal solution of a linear model, piecewise harmonic solutions of a piecewise-constant
 stiffness, a Floquet (monodromy) computation with scipy's ``solve_ivp``, and the
 closed-form steady state of a forced damped oscillator for the separation threshold
-(PHYSICS.md 5, 6; VALIDATION.md "Integrator checks").
+(docs/model.md §5, §6; docs/validation.md, integrator checks).
 """
 
 from __future__ import annotations
@@ -286,7 +286,7 @@ def test_stiff_model_high_mode_decays_at_rho_inf(stiff_run):
 # --- 3. stepwise (rectangular) mesh stiffness ---------------------------------------------
 
 # eps = 1.5 and lambda = 1: every pair carries kbar / eps, two pairs for frac(s) < 0.5,
-# one for frac(s) >= 0.5 (PHYSICS.md 5), so k(t) is a rectangular wave 4/3, 2/3 kbar
+# one for frac(s) >= 0.5 (docs/model.md §5.1), so k(t) is a rectangular wave 4/3, 2/3 kbar
 STEP_MASS, STEP_MEAN = 1.0, (2 * np.pi * 3.0) ** 2
 STEP_MESH_FREQUENCY = 3.1
 STEP_HALF = 0.5 / STEP_MESH_FREQUENCY  # time between switches

@@ -1,4 +1,5 @@
-"""Signal analysis of the study case's run-up (VALIDATION.md, Spectra; seed section 5.4).
+"""Signal analysis of the study case's run-up (Yang, Jiang & Han 2016, section 5.4;
+docs/model.md §8).
 
 The transient runs 5 s in about 0.3 s, so these are ordinary tests."""
 
@@ -18,7 +19,7 @@ from pygear.assembly import assemble
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 RING_TEETH = 96  # Table 1
-SECOND_ROTATIONAL_HZ = 1334.0  # VALIDATION.md, improved model
+SECOND_ROTATIONAL_HZ = 1334.0  # Yang, Jiang & Han (2016) Table 2, improved model
 
 
 @pytest.fixture(scope="module")
@@ -106,8 +107,8 @@ def test_planet_error_spectrum_labels(runs, case):
 
 def test_planet_error_acts_through_mesh_phasing(case, runs):
     """With the displaced planet's meshes forced back to the nominal phases, only the
-    0.1 deg of geometry is left: VALIDATION.md's prototype gives a ring RMS of about
-    2.9e-3 m/s^2 for that; re-phased from the actual angle the response is far larger."""
+    0.1 deg of geometry is left: an independent prototype of the model gave a ring RMS of
+    about 2.9e-3 m/s^2 for that; re-phased from the actual angle the response is far larger."""
     from pygear.assembly.mesh_phasing import stage_phasing
     from pygear.model.case import replace_parameter
 

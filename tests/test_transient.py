@@ -1,10 +1,11 @@
 """Tests of the banded Newmark transient (fortran/newmark.f90, pygear.kernel.newmark,
 pygear.analysis.transient).
 
-References: Chopra's example and the integrator properties of VALIDATION.md
-("Integrator checks"), closed-form solutions of a single oscillator, the seed's
-Table 3 from VALIDATION.md ("Transient"), and the run-up time and equilibrium speed
-of each formulation derived here from its inertias and kinematics (PHYSICS.md 6).
+References: Chopra's Examples 5.3/5.4 (*Dynamics of Structures*) and the textbook
+properties of average acceleration (Newmark 1959), closed-form solutions of a single
+oscillator, Table 3 of Yang, Jiang & Han (2016), and the run-up time and equilibrium
+speed of each formulation derived here from its inertias and kinematics
+(docs/model.md §6.3).
 Nothing is compared with the code's own earlier output.
 """
 
@@ -48,7 +49,7 @@ def displacement_probe(n: int, i: int = 0) -> KernelProbe:
     return KernelProbe(f"u{i}", "displacement", row)
 
 
-# --- integrator checks (VALIDATION.md, Integrator checks) ----------------------------------
+# --- integrator checks (Chopra; Newmark 1959) ---------------------------------------------
 
 
 def test_chopra_average_acceleration_example():
@@ -170,7 +171,7 @@ def test_numerical_damping_follows_the_spectral_radius(integrator, rho):
     )
 
 
-# --- the seed's run-up (VALIDATION.md, Transient; PHYSICS.md 6) ---------------------------
+# --- the seed's run-up (Yang, Jiang & Han 2016, Table 3; docs/model.md §6.3) --------------
 
 
 @pytest.fixture(scope="module")
@@ -206,7 +207,7 @@ def test_planet_tangential_speed(runups):
 
 
 def _equivalent_inertia(case, formulation: str) -> tuple[float, float]:
-    """J_eq reduced to the carrier and the sun/carrier ratio, from PHYSICS.md 3.1 and 4."""
+    """J_eq reduced to the carrier and the sun/carrier ratio, from docs/model.md §3.1 and §6.3."""
     stage = case.gearbox.stages[0]
     m, i_p, r_c = stage.planet.mass, stage.planet.polar_inertia, stage.carrier.radius
     r_bs, r_br, r_bp = stage.sun.base_radius, stage.ring.base_radius, stage.planet.base_radius
@@ -236,7 +237,7 @@ def test_runup_follows_each_formulations_inertia(runups, study_case, formulation
 
 
 def test_static_mesh_load_and_contact_sign(study_case):
-    """10 N m on the carrier, sun held: 18.9 N and -3.78e-8 m per mesh (PHYSICS.md 3.4)."""
+    """10 N m on the carrier, sun held: 18.9 N and -3.78e-8 m per mesh (docs/model.md §3.4)."""
     model = assemble(study_case, study_case.scene("runup"))
     stage = study_case.gearbox.stages[0]
     force = 10.0 / stage.speed_ratio / (stage.planets * stage.sun.base_radius)

@@ -84,21 +84,21 @@ parallel = ParallelStage(
 # ASSUMED: the coupling spring's stiffness was lost; 1e6 N m/rad is a stiff shaft.
 COUPLING_STIFFNESS = 1e6  # N m/rad
 
-# Run-up (paper section 6, Tables 7 and 8, Figures 18 and 19; PHYSICS.md 6): from rest, a
+# Run-up (paper section 6, Tables 7 and 8, Figures 18 and 19; docs/model.md §6.3): from rest, a
 # constant drive torque on stage 1's carrier; the parallel stage's output gear carries the
 # load law T_L = (T_D/i)(w_out/(i w_0))^n from t_s on, i = w_out/w_in = -20.73 from the
 # kinematics (the parallel pair reverses the sense; the law brakes the actual rotation).
 RUNUP_SPEED_RPM = 60.0  # omega_0 [rpm]: Tables 7/8 show the first carrier at 59.86 rpm
-# ASSUMED (lost): T_D chosen so that the damped theory of PHYSICS.md 6 gives the paper's
+# ASSUMED (lost): T_D chosen so that the damped theory of docs/model.md §6.3 gives the paper's
 # t_s = 0.327 s with this file's inertias (J_eq = 4.864 kg m^2 reduced to the input):
 # T_D = alpha J_eq w_0 / (1 - exp(-alpha t_s)).
 DRIVE_TORQUE = 95.5  # N m
-LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED as for the study case (PHYSICS.md 6)
+LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED as for the study case (docs/model.md §6.3)
 RUNUP = Transient(
     duration=4.0,  # s: long enough for t_s, settling and a 1 s averaging window
     time_step=2.5e-5,  # s, as the paper's study case
     sample_rate=40e3,  # Hz, as the paper's study case
-    integrator="newmark",  # average acceleration (PHYSICS.md 6)
+    integrator="newmark",  # average acceleration (docs/model.md §6.1)
     equivalent_load="predictor",  # the paper's explicit mesh term (eq. 25)
     input="stage1.carrier.theta_z",
     output="parallel.output_gear.theta_z",
@@ -145,14 +145,14 @@ case = Case(
         output_dof="parallel.output_gear.theta_z",
     ),
     formulation="improved",  # the paper's model
-    # ASSUMED as for the study case (PHYSICS.md 3.7)
+    # ASSUMED as for the study case (docs/model.md §3.7)
     damping=RayleighDamping(mass_coefficient=0.13, stiffness_coefficient=1e-6),
     scenes=(
         Scene("modal", analyses=("modal",)),
         # Table 7: constant (mean) mesh stiffness
         Scene("runup", analyses=("transient", "signal"), transient=RUNUP),
         # Table 8: time-varying mesh stiffness of every mesh, the parallel pair's by its
-        # helical contact-line length (PHYSICS.md 5)
+        # helical contact-line length (docs/model.md §5.2)
         Scene(
             "runup_tv",
             analyses=("transient", "signal"),
@@ -169,7 +169,7 @@ accuracy = dict(
     # equilibrium window still fit (ASSUMED long enough to settle)
     duration=1.5,
     mean_window=0.5,  # s: equilibrium speeds and mesh-force RMS/peak over 1.0-1.5 s
-    signal_after=1.0,  # s: spectra skip the start-up (PHYSICS.md 8)
+    signal_after=1.0,  # s: spectra skip the start-up (docs/model.md §8)
     coarsest_time_step=2.5e-5,  # s, the paper's step as the coarsest
     levels=4,  # 2.5e-5 s halving down to 3.125e-6 s
     sample_rate=40e3,  # Hz, every run sampled at the same instants

@@ -64,24 +64,24 @@ stage = PlanetaryStage(
         radial=BEARING_STIFFNESS, axial=AXIAL_STIFFNESS, tilt=TILT_STIFFNESS
     ),
     # mean mesh stiffness 5e8 N/m, pressure angle 24.6 deg, contact ratio 1.24 (Table 1);
-    # end-to-peak ratio ASSUMED 0.6 external / 0.7 internal (PHYSICS.md 5)
+    # end-to-peak ratio ASSUMED 0.6 external / 0.7 internal (docs/model.md §5.2)
     sun_mesh=Mesh(stiffness=5e8, pressure_angle_deg=24.6, contact_ratio=1.24, end_to_peak=0.6),
     ring_mesh=Mesh(stiffness=5e8, pressure_angle_deg=24.6, contact_ratio=1.24, end_to_peak=0.7),
     base_helix_angle_deg=0.0,  # spur (Table 1)
 )
 
-# Run-up (paper section 5.3, Table 3 and Figure 9; PHYSICS.md 6): from rest, a constant
+# Run-up (paper section 5.3, Table 3 and Figure 9; docs/model.md §6.3): from rest, a constant
 # drive torque on the carrier; the sun carries the paper's load law (eq. 31), zero until
 # t_s (the first instant the carrier reaches omega_0) and T_L = (T_D/i)(w_sun/(i w_0))^n
 # afterwards, i = 1 + r_br/r_bs.  Equilibrium speeds are means over the last 1 s.
 RUNUP_SPEED_RPM = 120.0  # omega_0 [rpm], paper section 5.3
 DRIVE_TORQUE = 10.0  # T_D [N m], ASSUMED (lost): gives the paper's t_s = 0.156 s (theory)
-LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED (lost; PHYSICS.md 6)
+LOAD_EXPONENT = 2.0  # n of the load law, ASSUMED (lost; docs/model.md §6.3)
 RUNUP = Transient(
     duration=5.0,  # s, paper section 5.3
     time_step=2.5e-5,  # s, paper section 5.3
     sample_rate=40e3,  # Hz, paper section 5.3
-    integrator="newmark",  # average acceleration (PHYSICS.md 6)
+    integrator="newmark",  # average acceleration (docs/model.md §6.1)
     # the paper's explicit equivalent load (eq. 25) at its predictor; 'iterate' makes the
     # mesh term implicit (the predictor diverges at twice this time step)
     equivalent_load="predictor",
@@ -146,7 +146,7 @@ case = Case(
     gearbox=Gearbox(stages=(stage,)),
     formulation="improved",  # the seed's own model; scenes name the others
     # ASSUMED: the paper's Rayleigh coefficients were lost; alpha = 0.13 1/s reproduces
-    # its Table 3 with the load law of PHYSICS.md 6, beta = 1e-6 s (PHYSICS.md 3.7)
+    # its Table 3 with the load law of docs/model.md §6.3, beta = 1e-6 s (§3.7)
     damping=RayleighDamping(mass_coefficient=0.13, stiffness_coefficient=1e-6),
     scenes=(
         Scene("modal", analyses=("modal",), formulation="improved", dof_set="planar"),
@@ -201,7 +201,7 @@ accuracy = dict(
     # equilibrium window after the start-up still fit (ASSUMED long enough to settle)
     duration=1.5,
     mean_window=0.5,  # s: equilibrium speeds and mesh-force RMS/peak over 1.0-1.5 s
-    signal_after=1.0,  # s: spectra skip the start-up, as the paper's (PHYSICS.md 8)
+    signal_after=1.0,  # s: spectra skip the start-up, as the paper's (docs/model.md §8)
     # the paper's 2.5e-5 s is the coarsest step: the predictor diverges at 5e-5 s, and
     # the paper's 40 kHz output needs steps of 2.5e-5 s or less
     coarsest_time_step=2.5e-5,

@@ -42,7 +42,7 @@ class ContactLossWarning(UserWarning):
 
 def _relative_speeds(stage, carrier_speed: float) -> dict[str, float]:
     """d theta_rel / dt of sun and ring meshes at carrier speed [rad/s], ring held,
-    from base radii (PHYSICS.md 2): theta_s - theta_c = (r_br / r_bs) omega_c t,
+    from base radii (docs/model.md §2): theta_s - theta_c = (r_br / r_bs) omega_c t,
     theta_c - theta_r = omega_c t.  A parallel pair's input gear turns at the speed
     given, in the sense of the suns relative to their carriers."""
     if isinstance(stage, ParallelStage):

@@ -1,4 +1,4 @@
-"""Transient analysis of a scene: the run-up of PHYSICS.md 6 and its equilibrium table.
+"""Transient analysis of a scene: the run-up of docs/model.md §6.3 and its equilibrium table.
 
 :func:`transient_problem` turns a case and a scene with ``Transient`` settings into
 a :class:`~pygear.kernel.newmark.BandedNewmark` integrator with its laws, meshes and
@@ -91,7 +91,7 @@ def _member_row(model: Model, label: str, path: str) -> np.ndarray:
 
 
 def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: str) -> float:
-    """Output over input speed, i of PHYSICS.md 6: the stage's 1 + r_br/r_bs for its
+    """Output over input speed, i of docs/model.md §6.3: the stage's 1 + r_br/r_bs for its
     carrier and sun, else the ratio in the model's rigid-body rotation (negative when
     the output turns against the input)."""
     for stage in case.gearbox.stages:

@@ -3,7 +3,7 @@
 :func:`build_contact_table` turns a case (meshes, phasing, single-pair laws,
 defects) into the flat arrays of the Fortran module ``contact_table``, which
 checks them once, keeps them under a handle and evaluates every mesh at a state
-(PHYSICS.md 5).  The constant-speed evaluation is
+(docs/model.md §5.1).  The constant-speed evaluation is
 :func:`pygear.analysis.mesh_stiffness.mesh_stiffness_at_constant_speed`.
 
 Each mesh's gear 1 is the central member (sun or ring) and gear 2 the planet;
@@ -406,7 +406,7 @@ def with_tooth_curves(
 
 def _planetary_row(stage: PlanetaryStage, mesh, phase, direction: int) -> dict:
     """Table entry of a sun or ring mesh: gear 1 the central member, gear 2 the planet,
-    angle of gear 1 relative to the carrier (PHYSICS.md 5)."""
+    angle of gear 1 relative to the carrier (docs/model.md §5.1)."""
     central = mesh.name.split("-", 1)[0]
     return dict(
         central=central,

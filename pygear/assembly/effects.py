@@ -1,6 +1,6 @@
 """The record of what a result was computed with: DOF set, pruned DOF count and effects.
 
-A scene lists the effects it calls for (PHYSICS.md 7); assembly and the solver build
+A scene lists the effects it calls for (docs/model.md §7); assembly and the solver build
 only those.  :func:`effect_attributes` turns an assembled model (and, for a run, the
 equivalent-load mode) into the global attributes every output file carries, so a file
 says which DOF set was used and why, how many DOFs the pruning kept of the spatial

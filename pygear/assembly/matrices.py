@@ -1,6 +1,6 @@
 """Element assembly of a gearbox: DOF numbering, element matrices, constraints.
 
-The steps are the paper's (PHYSICS.md 4): number the DOFs node by node, add every
+The steps are the paper's (docs/model.md §4): number the DOFs node by node, add every
 element at its DOFs, then apply the constraints through a reduction matrix T
 (q_full = T q): the housing and every DOF outside the scene's DOF set have no
 column; a planet's revolution phi shares the carrier's theta_z column.

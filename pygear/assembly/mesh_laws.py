@@ -6,7 +6,7 @@ the element matrices and the tooth-contact table take: the mean mesh stiffness k
 the contact-table law code, the contact ratio the single-pair law spans, its shape
 parameter and, for a tabulated law, the unit-mean curve.
 
-- ``parabola``: k-bar typed, the mean-preserving parabola over eps_alpha (PHYSICS.md 5).
+- ``parabola``: k-bar typed, the mean-preserving parabola over eps_alpha (docs/model.md §5.2).
 - ``helical``: k-bar typed, the contact-line law over eps_alpha + eps_beta.
 - ``tabulated``: k-bar typed, the case's ``stiffness_curve`` scaled to unit mean, over
   eps_alpha (+ eps_beta on a helical stage).

@@ -1,7 +1,7 @@
 r"""Mesh phasing of a planetary stage (Parker & Lin 2004) and the tooth-index offsets.
 
-Conventions (PHYSICS.md 5)
---------------------------
+Conventions (docs/model.md §5.1)
+--------------------------------
 Every mesh has gear 1 = the central member (sun or ring) and gear 2 = the planet.
 Its mesh cycle is s = sigma Z1 theta_rel / 2 pi + gamma, with theta_rel = theta_s -
 theta_c (sun-planet) or theta_c - theta_r (ring-planet) and sigma = +1 when the sun
@@ -63,7 +63,7 @@ must be whole.  Hence
     j0 (ring mesh) = -round(p_Ps - p_Pr + Delta_c + Delta)  mod Z_p.
 
 Z_p odd makes (Z_p + sigma_L)/2 whole, Z_p even makes it a half: gamma_rs flips by
-half a cycle between odd and even Z_p (PHYSICS.md 5).  The rounding in j0 only
+half a cycle between odd and even Z_p (docs/model.md §5.3).  The rounding in j0 only
 matters when an override or a planet position error moves Delta off its
 geometric value.
 

@@ -30,7 +30,7 @@ BEARING_COMPONENTS = {
     "central_bearing": ("x", "y", "z", "theta_x", "theta_y", "theta_z"),
     "planet_bearing": ("zeta", "eta", "z", "theta_zeta", "theta_eta"),
 }
-"""Spring order of each bearing element (PHYSICS.md 3.2, 3.3)."""
+"""Spring order of each bearing element (docs/model.md §3.2, §3.3)."""
 
 RPM_PER_RAD_S = 30.0 / math.pi
 

@@ -42,7 +42,7 @@ __all__ = [
 ]
 
 FORMULATIONS = ("improved", "consistent", "lin-parker")
-"""Model formulations (PHYSICS.md 3.1 and 4)."""
+"""Model formulations (docs/model.md §3.1 and §4)."""
 
 DOF_SETS = ("spatial", "planar", "torsional")
 """DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
@@ -63,7 +63,7 @@ EFFECTS = (
     "tooth_separation",
     "helical_coupling",
 )
-"""Optional effects a scene may call for (PHYSICS.md 7).  ``helical_coupling`` asks
+"""Optional effects a scene may call for (docs/model.md §7).  ``helical_coupling`` asks
 that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
 open); naming it refuses a DOF set that would drop them."""
 

@@ -371,7 +371,7 @@ class Mesh:
         Transverse contact ratio epsilon_alpha.
     end_to_peak : float
         Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1]
-        (the parabola of PHYSICS.md 5).
+        (the parabola of docs/model.md §5.2).
     stiffness_curve : tuple of float or None
         The ``tabulated`` single-pair law: the shape of the stiffness of one tooth
         pair at equally spaced relative contact positions from the start (0) to the
@@ -380,7 +380,7 @@ class Mesh:
         that the mean mesh stiffness over a mesh cycle is ``stiffness``; linear
         interpolation between samples.
     law : str or None
-        Single-pair law: ``parabola`` (PHYSICS.md 5), ``tabulated``
+        Single-pair law: ``parabola`` (docs/model.md §5.2), ``tabulated``
         (``stiffness_curve``), ``helical`` (contact-line length over eps_alpha +
         eps_beta), ``iso6336`` (ISO 6336-1 method B mean c_gamma_alpha b; a constant
         pair stiffness on a spur stage, the helical law on a helical one) or
@@ -532,7 +532,7 @@ class PlanetaryStage:
     """A planetary stage: carrier, ring, sun and N identical planets.
 
     The carrier, ring and sun live in the inertial frame; each planet in a frame
-    revolving with it (PHYSICS.md 1-3).
+    revolving with it (docs/model.md §1-3).
 
     Parameters
     ----------
@@ -695,7 +695,7 @@ class PlanetaryStage:
 
     def _validate_radii(self, path: str) -> None:
         """The base radii and the carrier radius fix each mesh's line of action:
-        r_bs + r_bp = r_c cos(alpha_s) and r_br - r_bp = r_c cos(alpha_r) (PHYSICS.md 2),
+        r_bs + r_bp = r_c cos(alpha_s) and r_br - r_bp = r_c cos(alpha_r) (docs/model.md §2),
         so both sums over r_c must be cosines of a pressure angle in (0, 45) degrees."""
         r_c = self.carrier.radius
         for mesh, value, formula in (

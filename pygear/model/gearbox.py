@@ -1,4 +1,4 @@
-"""A gearbox: stages on one housing, joined by couplings (PHYSICS.md 3.5).
+"""A gearbox: stages on one housing, joined by couplings (docs/model.md §3.5).
 
 Besides :class:`~pygear.model.components.PlanetaryStage` a gearbox holds helical or spur
 :class:`ParallelStage` pairs and :class:`ShaftInertia` nodes (a rotor, a generator).

@@ -2,7 +2,7 @@
 
 These are descriptions only (frozen dataclasses checked by ``validate``); the run
 itself lives in :mod:`pygear.analysis.transient`.  A case file writes, for the seed's run-up
-(PHYSICS.md 6)::
+(docs/model.md §6.3)::
 
     Transient(
         duration=5.0, time_step=2.5e-5, sample_rate=40e3,
@@ -37,10 +37,10 @@ __all__ = [
 ]
 
 INTEGRATORS = ("newmark", "hht", "generalized-alpha")
-"""Average-acceleration Newmark, HHT-alpha and generalized-alpha (PHYSICS.md 6)."""
+"""Average-acceleration Newmark, HHT-alpha and generalized-alpha (docs/model.md §6.1)."""
 
 EQUIVALENT_LOAD_MODES = ("predictor", "iterate", "refactor")
-"""How the mesh-stiffness variation enters a step (PHYSICS.md 6 (a), (b), (c))."""
+"""How the mesh-stiffness variation enters a step (docs/model.md §6.2)."""
 
 LAW_KINDS = ("constant", "ramp", "table", "generator")
 """Torque laws; ``generator`` is the paper's speed-squared load law (eq. 31)."""
@@ -267,7 +267,7 @@ class Probe:
 
 @dataclass(frozen=True)
 class Transient:
-    """Settings of a transient analysis (PHYSICS.md 6).
+    """Settings of a transient analysis (docs/model.md §6).
 
     Parameters
     ----------
