@@ -1,4 +1,4 @@
-"""The accuracy-cost study (issue #5): Richardson orders, the grid, the recommendation."""
+"""The accuracy-cost study: Richardson orders, the grid, the recommendation."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Bad input table and a fuzz of the case loader (issue #6, item 9).
+"""Bad input table and a fuzz of the case loader.
 
 Every rejected input below, from case files, scenes and the command line, must be
 refused with a :class:`CaseError` (exit code 2 on the command line) whose message

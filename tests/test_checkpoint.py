@@ -1,4 +1,4 @@
-"""Checkpoint and resume, signals and crashes (issue #6, item 8).
+"""Checkpoint and resume, signals and crashes.
 
 A real ``pygear run`` process is stopped by SIGINT or SIGTERM (what SLURM sends) and
 resumed with ``--resume``: the result must be bit-identical to an uninterrupted run

@@ -1,4 +1,4 @@
-"""Long runs: 1e7 steps of the study case at 2000 rpm (issue #6, item 7).
+"""Long runs: 1e7 steps of the study case at 2000 rpm.
 
 The run starts in its exact steady state: a rigid rotation at omega (carrier 2000 rpm)
 on top of the static deflections under the transmitted torque, with constant mesh

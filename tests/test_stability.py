@@ -1,4 +1,4 @@
-"""Hard cases stay numerically stable (issue #6): the banded Newmark kernel on stiff,
+"""Hard cases stay numerically stable: the banded Newmark kernel on stiff,
 stepwise, parametrically excited and separating problems.
 
 References are derived here, never taken from the code's output: the textbook Newmark
