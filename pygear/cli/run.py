@@ -59,10 +59,34 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         metavar=("LOW", "HIGH"),
         help="DRA band [Hz] (default 5000 10000)",
     )
-    analyze.add_argument("--after", type=float, default=1.0, help="skip the start-up [s]")
+    analyze.add_argument(
+        "--after", type=float, help="skip the start-up [s] (default 1; 0 with --orders)"
+    )
     analyze.add_argument("--mesh-frequency", type=float, help="mesh frequency [Hz] for labels")
-    analyze.add_argument("--out", type=Path, help="output stem (default: beside RUN.nc)")
+    analyze.add_argument(
+        "--out",
+        type=Path,
+        help="output stem (default: beside RUN.nc); with --orders a directory "
+        "(default: RUN_orders/ beside RUN.nc)",
+    )
     analyze.add_argument("--json", action="store_true", help="print the peak tables as JSON")
+    analyze.add_argument(
+        "--orders",
+        metavar="MEMBER",
+        help="computed order tracking against MEMBER's angle (e.g. planetary.carrier): "
+        "order spectrum, order-speed map and order slices in orders.nc and figures",
+    )
+    analyze.add_argument(
+        "--max-order",
+        type=float,
+        help="--orders: highest order kept (default: the highest the time sampling resolves)",
+    )
+    analyze.add_argument(
+        "--window-revolutions",
+        type=float,
+        default=1.0,
+        help="--orders: revolutions per order-map window; order resolution 1/W (default 1)",
+    )
 
     mesh = commands.add_parser(
         "mesh-stiffness",
@@ -89,6 +113,10 @@ def _analyze(args: argparse.Namespace) -> int:
     from ..runs.json_output import json_text
     from ..runs.outputs import stored_references, write_signal_analysis
 
+    if args.orders is not None:
+        from .orders import analyze_orders
+
+        return analyze_orders(args)
     if not args.run.is_file():
         raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):
@@ -109,7 +137,7 @@ def _analyze(args: argparse.Namespace) -> int:
         stem,
         channel=channel,
         band=args.band,
-        after=args.after,
+        after=1.0 if args.after is None else args.after,  # the start-up skipped
         natural=natural,
         mesh_frequency=args.mesh_frequency or stored_mesh_frequency,
     )
