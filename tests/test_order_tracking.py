@@ -294,6 +294,14 @@ def test_mesh_orders_are_the_tooth_numbers(study_case, run):
         assert kinematic == pytest.approx(order, rel=1e-9)  # rigid-body mode: round-off
         # from the file: equilibrium speeds of an elastic run (measured 2e-8 from rigid)
         assert stored_mesh_orders(run, member)["planetary"] == pytest.approx(order, rel=1e-6)
+    # each mesh: the sun turns at n_c (1 + r_br/r_bs) (Willis, ring held), so its meshes
+    # cycle at Z_s (r_br/r_bs) carrier orders: 95.93 against Z_r = 96, since Table 1's
+    # radii give r_br/r_bs = 3.5530 and its tooth numbers Z_r/Z_s = 3.5556
+    per_mesh = mesh_orders(study_case, model, "planetary.carrier", per_mesh=True)
+    assert per_mesh == pytest.approx(
+        {"planetary.sun-planet": stage.sun.teeth * ring / sun, "planetary.ring-planet": 96.0},
+        rel=1e-9,
+    )
 
 
 def test_analyze_orders_json_and_files(run_file, tmp_path, capsys):

@@ -197,12 +197,18 @@ def stored_mesh_orders(run: xr.Dataset, member: str) -> dict[str, float]:
     }
 
 
-def mesh_orders(case: Case, model: Model, member: str) -> dict[str, float]:
-    """Mesh order of each stage relative to ``member``, from the model's kinematics.
+def mesh_orders(
+    case: Case, model: Model, member: str, *, per_mesh: bool = False
+) -> dict[str, float]:
+    """Mesh order of each stage (or each mesh) relative to ``member``, from the model's
+    kinematics.
 
     Speed ratios are those of the free rigid-body rotation of the assembled model (the
     zero mode of K0 and M), so a held ring, rigid links and every stage of a gearbox
-    are taken into account.
+    are taken into account.  The speeds follow the base radii and the mesh cycles the
+    tooth numbers, so a planetary stage whose Z_r / Z_s differs from r_br / r_bs has two
+    mesh orders: the sun-planet meshes at Z_s |n_s - n_c| / |n_ref|, the ring-planet
+    meshes at Z_r |n_c - n_r| / |n_ref|.
 
     Parameters
     ----------
@@ -212,11 +218,15 @@ def mesh_orders(case: Case, model: Model, member: str) -> dict[str, float]:
         Its assembled model.
     member : str
         ``stage.member`` whose revolutions count the orders (``planetary.carrier``).
+    per_mesh : bool
+        Give each mesh's order (``stage.sun-planet``, ``stage.ring-planet``,
+        ``stage.mesh`` of a parallel pair) instead of the stage's (its ring-planet
+        mesh, as the run files' mesh frequencies count it).
 
     Returns
     -------
     dict of str to float
-        ``{stage: order}`` for every stage with tooth numbers.
+        ``{stage: order}`` (or ``{stage.mesh: order}``) for the gears with tooth numbers.
 
     Raises
     ------
@@ -242,11 +252,18 @@ def mesh_orders(case: Case, model: Model, member: str) -> dict[str, float]:
         raise CaseError(f"member: {member!r} does not turn in the gearbox's rigid rotation")
     orders = {}
     for stage in case.gearbox.stages:
-        kind = getattr(stage, "kind", "")
-        if kind == "planetary" and stage.ring.teeth:
-            relative = speed(f"{stage.name}.carrier") - speed(f"{stage.name}.ring")
-            orders[stage.name] = stage.ring.teeth * abs(relative / reference)
+        name, kind = stage.name, getattr(stage, "kind", "")
+        if kind == "planetary":
+            carrier = speed(f"{name}.carrier")
+            if per_mesh and stage.sun.teeth:
+                relative = speed(f"{name}.sun") - carrier
+                orders[f"{name}.sun-planet"] = stage.sun.teeth * abs(relative / reference)
+            if stage.ring.teeth:
+                relative = carrier - speed(f"{name}.ring")
+                key = f"{name}.ring-planet" if per_mesh else name
+                orders[key] = stage.ring.teeth * abs(relative / reference)
         elif kind == "parallel" and stage.input_gear.teeth:
-            turning = speed(f"{stage.name}.input_gear")
-            orders[stage.name] = stage.input_gear.teeth * abs(turning / reference)
+            turning = speed(f"{name}.input_gear")
+            key = f"{name}.mesh" if per_mesh else name
+            orders[key] = stage.input_gear.teeth * abs(turning / reference)
     return orders
