@@ -53,6 +53,8 @@ __all__ = [
 ]
 
 _NEWTON_ITERATIONS = 30
+CROSSING_BLOCK = 1 << 16
+"""Angle steps whose crossing times are solved together."""
 
 
 # --------------------------------------------------------------------------- resampling
@@ -117,7 +119,13 @@ def resample_to_angle(plan: OrderPlan, run: xr.Dataset) -> xr.DataArray:
     first = math.ceil(angle[0] / (2 * math.pi) * spr - 1e-9)
     last = math.floor(angle[-1] / (2 * math.pi) * spr + 1e-9)
     revolutions = np.arange(first, last + 1) / spr
-    crossing = _crossing_times(time, angle, speed, revolutions * 2 * math.pi)
+    targets = revolutions * 2 * math.pi
+    crossing = np.concatenate(  # in blocks: the Newton temporaries stay small
+        [
+            _crossing_times(time, angle, speed, targets[block : block + CROSSING_BLOCK])
+            for block in range(0, targets.size, CROSSING_BLOCK)
+        ]
+    )
     signal = run[plan.channel]
     padded = slice(start - CHANNEL_PAD, stop + CHANNEL_PAD)
     values = np.asarray(signal.values[padded], dtype=float)  # finite: checked by the plan
@@ -227,7 +235,6 @@ def _windows(resampled: xr.DataArray, window_revolutions: float, overlap: float)
     length = max(int(round(window_revolutions * spr)), 16)
     hop = max(int(round(length * (1.0 - overlap))), 1)
     starts = np.arange(0, resampled.size - length + 1, hop)
-    index = starts[:, np.newaxis] + np.arange(length)
     time = resampled["time"].values
     mean_speed = ((length - 1) / spr) / (time[starts + length - 1] - time[starts]) * 60.0
     centre = 0.5 * (time[starts] + time[starts + length - 1])
@@ -240,7 +247,7 @@ def _windows(resampled: xr.DataArray, window_revolutions: float, overlap: float)
         ),
         "window_time": ("window", centre, {"units": "s", "long_name": "centre of the window"}),
     }
-    return index, length, coords
+    return starts, length, coords
 
 
 def order_speed_map(
@@ -274,16 +281,19 @@ def order_speed_map(
         ``speed`` [rpm] and centre ``window_time`` [s] as coordinates.
     """
     threads, effort = _fft_options(threads, planner_effort)
-    index, length, coords = _windows(resampled, window_revolutions, overlap)
-    rows = np.asarray(resampled.values, dtype=float)[index]
-    rows = rows - rows.mean(axis=1, keepdims=True)
-    amplitude = _one_sided_amplitude(rows, "hann", threads, effort)
+    starts, length, coords = _windows(resampled, window_revolutions, overlap)
     spr = int(resampled.attrs["samples_per_rev"])
-    orders = np.arange(amplitude.shape[1]) * (spr / length)
+    orders = np.arange(length // 2 + 1) * (spr / length)
     keep = orders <= max_order * (1 + 1e-12)
+    values = np.asarray(resampled.values, dtype=float)
+    amplitude = np.empty((starts.size, int(np.count_nonzero(keep))))
+    for row, start in enumerate(starts):  # one window at a time: memory of one window
+        window = values[start : start + length]
+        window = (window - window.mean())[np.newaxis, :]
+        amplitude[row] = _one_sided_amplitude(window, "hann", threads, effort)[0, keep]
     coords["order"] = _order_axis(orders[keep], _member(resampled))
     return xr.DataArray(
-        amplitude[:, keep],
+        amplitude,
         dims=("window", "order"),
         coords=coords,
         name="order_map_amplitude",
@@ -322,15 +332,17 @@ def order_slices(
         Amplitude over (``tracked_order``, ``window``), with ``speed`` [rpm] and
         ``window_time`` [s] along ``window``.
     """
-    index, length, coords = _windows(resampled, window_revolutions, overlap)
+    starts, length, coords = _windows(resampled, window_revolutions, overlap)
     weights = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(length) / length)
-    rows = np.asarray(resampled.values, dtype=float)[index]
-    rows = (rows - rows.mean(axis=1, keepdims=True)) * weights
-    angle = np.asarray(resampled["revolution"].values)[index]
-    angle = angle - angle[:, :1]  # each window from its own start: the phase is not used
-    values = np.empty((len(orders), index.shape[0]))
-    for row, order in enumerate(orders):
-        values[row] = np.abs(np.sum(rows * np.exp(-2j * np.pi * order * angle), axis=1))
+    # every window starts on an angle step, so its angles from its start are j / spr
+    spr = int(resampled.attrs["samples_per_rev"])
+    angle = np.arange(length) / spr
+    kernels = np.exp(-2j * np.pi * np.outer(np.asarray(orders, dtype=float), angle))
+    signal = np.asarray(resampled.values, dtype=float)
+    values = np.empty((len(orders), starts.size))
+    for column, start in enumerate(starts):
+        window = signal[start : start + length]
+        values[:, column] = np.abs(kernels @ ((window - window.mean()) * weights))
     values *= 2.0 / weights.sum()
     coords["tracked_order"] = (
         "tracked_order",
