@@ -16,6 +16,7 @@ import dataclasses
 import json
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -505,6 +506,18 @@ def test_mesh_stiffness_json_without_geometry_has_null_geometry(capsys):
 def test_mesh_stiffness_law_needs_what_it_derives_from(capsys):
     assert main(["mesh-stiffness", "yang2016_planetary", "--law", "iso6336"]) == 2
     assert "gear geometry" in capsys.readouterr().err
+
+
+def test_law_override_refuses_a_pair_outside_its_range_when_asked():
+    """ISO 6336-1's q' regression holds for x1 >= x2; the NREL 5 MW stage 2 sun mesh
+    (sun 0.389, planet 0.504, the sun ISO's gear 1) is outside it.  The override says so
+    itself, naming the mesh, not the assembly that would come later."""
+    from pygear import load_case
+    from pygear.assembly.mesh_laws import with_mesh_law
+
+    case = load_case(Path(__file__).resolve().parent.parent / "cases" / "nrel5mw_gearbox")
+    with pytest.raises(CaseError, match=r"stage2\.sun_mesh.*x1 >= x2"):
+        with_mesh_law(case, "iso6336")
 
 
 # --------------------------------------------------------------------------- parallel stage

@@ -272,6 +272,12 @@ def with_mesh_law(case: Case, law: str) -> Case:
     gearbox = dataclasses.replace(case.gearbox, stages=tuple(stages))
     changed = dataclasses.replace(case, gearbox=gearbox)
     changed.validate()
+    if law in GEOMETRY_LAWS:
+        # resolve now (cached for the run): a pair outside the law's range is refused
+        # here, naming the mesh, not when the model is assembled
+        for stage in changed.gearbox.stages:
+            for member in stage_mesh_members(stage):
+                mesh_law(stage, member)
     return changed
 
 
