@@ -52,7 +52,13 @@ def effects_in_force(model: Model, equivalent_load: str | None = None) -> dict[s
         "tooth_separation": "on" if "tooth_separation" in effects else "off",
         "speed_dependent_planet_terms": (
             f"on at {info.get('carrier_speed_rpm', 0.0):g} rpm"
-            if model.gyroscopic is not None
+            if model.gyroscopic is not None and "speed_dependent_planet_terms" in effects
+            else "off"
+        ),
+        "gyroscopic_all_members": (
+            f"on at {info.get('carrier_speed_rpm', 0.0):g} rpm of the first planetary "
+            "carrier (Cooley & Parker 2012, every member in its carrier's frame)"
+            if "gyroscopic_all_members" in effects
             else "off"
         ),
         "helical_coupling": _helical(model, helical),

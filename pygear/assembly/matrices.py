@@ -290,7 +290,7 @@ def assemble(
         MeshElement(**{**info, "deflection": reduction.T @ _vector(len(builder.labels), dofs, b)})
         for info, dofs, b in builder.mesh_records
     ]
-    return Model(
+    model = Model(
         case_name=case.name,
         formulation=formulation,
         dof_set=dof_set,
@@ -310,6 +310,11 @@ def assemble(
         attributes=_scene_attributes(case, scene),
         spatial_size=spatial_size,
     )
+    if "gyroscopic_all_members" in effects:  # Cooley & Parker's terms, every member
+        from .speed_terms import apply_speed_terms
+
+        model = apply_speed_terms(model, case, scene.carrier_speed_rpm)
+    return model
 
 
 def _scene_attributes(case: Case, scene: SceneSettings | None) -> dict:

@@ -59,13 +59,17 @@ lie below the Nyquist frequency, half the run's sample rate."""
 
 EFFECTS = (
     "speed_dependent_planet_terms",
+    "gyroscopic_all_members",
     "time_varying_mesh_stiffness",
     "tooth_separation",
     "helical_coupling",
 )
 """Optional effects a scene may call for (docs/model.md §7).  ``helical_coupling`` asks
 that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
-open); naming it refuses a DOF set that would drop them."""
+open); naming it refuses a DOF set that would drop them.  ``gyroscopic_all_members``
+writes every planetary stage in its carrier's frame with Cooley & Parker's (2012)
+gyroscopic and centripetal terms on every member (``speed_dependent_planet_terms``:
+the planets only)."""
 
 
 @dataclass(frozen=True)
@@ -350,6 +354,23 @@ def check_effects_against_dof_set(path: str, scene: Scene) -> None:
             raise CaseError(
                 f"{path}.carrier_speed_rpm must be non-zero for 'speed_dependent_planet_terms' "
                 "(the terms grow with the nominal carrier speed)"
+            )
+    if "gyroscopic_all_members" in scene.effects:
+        if "speed_dependent_planet_terms" in scene.effects:
+            raise CaseError(
+                f"{path}.effects: 'gyroscopic_all_members' holds the planets' terms too; "
+                "list one of it and 'speed_dependent_planet_terms'"
+            )
+        if scene.dof_set == "torsional":
+            raise CaseError(
+                f"{path}.effects: 'gyroscopic_all_members' acts on the members' in-plane "
+                f"translations, which the torsional DOF set drops ({path}.dof_set)"
+            )
+        if "transient" in scene.analyses:
+            raise CaseError(
+                f"{path}.effects: 'gyroscopic_all_members' is for modal scenes at a fixed "
+                "carrier speed: a transient drives the speed itself and integrates no "
+                "Coriolis matrix"
             )
 
 
