@@ -47,6 +47,7 @@ from .sweep_points import (
     parse_param,
     point_hash,
     run_point,
+    scene_with,
     sweep_points,
     validate_sweep,
     write_error_record,
@@ -285,6 +286,7 @@ def _plan_points(
     for index, assignments in enumerate(points):
         try:
             modified = apply_assignments(case, assignments, scene)
+            point_scene = scene_with(scene, assignments)  # a swept carrier speed
         except CaseError as error:
             digest = point_hash(case, scene, formulation + json.dumps(assignments))
             hashes.append(digest)
@@ -295,7 +297,7 @@ def _plan_points(
             write_error_record(error_path, task, str(error))
             records[index] = {"index": index, "status": "failed", "error": str(error)}
             continue
-        digest = point_hash(modified, scene, formulation)
+        digest = point_hash(modified, point_scene, formulation)
         hashes.append(digest)
         if digest in found or digest in tasks:  # a zipped sweep may repeat a pair
             continue
@@ -306,7 +308,7 @@ def _plan_points(
         tasks[digest] = PointTask(
             index,
             modified,
-            scene,
+            point_scene,
             formulation,
             assignments,
             str(_point_path(out, digest)),

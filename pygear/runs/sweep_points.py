@@ -10,6 +10,7 @@ either layout places it on its own grid or point list when it combines the files
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import json
@@ -46,6 +47,7 @@ __all__ = [
     "parse_param",
     "point_hash",
     "run_point",
+    "scene_with",
     "sweep_points",
     "validate_sweep",
     "write_error_record",
@@ -59,6 +61,7 @@ NAN_IS_A_RESULT = {"t_s": "the input speed never reaches omega_0 in the run"}
 a rerun does not trust (it runs the point again)."""
 
 _UNITS = {
+    "carrier_speed_rpm": "rpm",
     "stiffness": "N/m",
     "radial": "N/m",
     "axial": "N/m",
@@ -121,8 +124,19 @@ def parse_param(text: str) -> tuple[str, np.ndarray]:
     return path, parse_values(values, name=f"--param {path}")
 
 
+SCENE_PARAMETERS = ("carrier_speed_rpm",)
+"""Scene settings a sweep may vary, as ``scene.<name>``: the carrier speed of a modal
+scene's speed-dependent terms."""
+
+
 def _parameter_values(case: Case, path: str, values: object) -> SweepParameter:
-    current = get_parameter(case, path)  # names the path when it does not exist
+    if path.startswith("scene."):
+        if path.removeprefix("scene.") not in SCENE_PARAMETERS:
+            allowed = ", ".join(f"scene.{name}" for name in SCENE_PARAMETERS)
+            raise CaseError(f"--param {path}: the scene settings a sweep varies are {allowed}")
+        current: object = 0.0
+    else:
+        current = get_parameter(case, path)  # names the path when it does not exist
     if isinstance(current, bool) or not isinstance(current, (int, float)):
         raise CaseError(
             f"--param {path}: only numbers can be swept, and {path} holds "
@@ -196,10 +210,30 @@ def validate_sweep(
             f"of this pygear cannot run yet (supported: {', '.join(POINT_ANALYSES)}); "
             "pick another scene with --scene"
         )
+    _check_scene_parameters(chosen, parsed)
     check_choice("--formulation", formulation, FORMULATIONS, allow_none=True)
     resolved = formulation or chosen.formulation or case.formulation
     assemble(case.for_scene(chosen), chosen, formulation=resolved)  # e.g. lin-parker, 2 stages
     return chosen, resolved, parsed
+
+
+def _check_scene_parameters(scene: Scene, parsed: Sequence[SweepParameter]) -> None:
+    """Refuse a swept carrier speed where it changes nothing or is not the scene's to set."""
+    for parameter in parsed:
+        if not parameter.path.startswith("scene."):
+            continue
+        if "transient" in scene.analyses:
+            raise CaseError(
+                f"--param {parameter.path}: scene {scene.name!r} runs a transient, whose "
+                "run-up drives the speed itself; sweep a modal scene"
+            )
+        speed_effects = ("gyroscopic_all_members", "speed_dependent_planet_terms")
+        if not any(effect in scene.effects for effect in speed_effects):
+            raise CaseError(
+                f"--param {parameter.path}: scene {scene.name!r} has no speed-dependent "
+                f"effect ({' or '.join(map(repr, speed_effects))}), so the carrier speed "
+                "changes none of its results"
+            )
 
 
 def _check_point_memory(parsed: Sequence[SweepParameter], zip_params: bool) -> None:
@@ -240,8 +274,24 @@ def apply_assignments(
     if scene is not None:
         case = case.for_scene(scene)
     for path, value in assignments.items():
-        case = _replace(case, path, value)
+        if not path.startswith("scene."):
+            case = _replace(case, path, value)
     return case
+
+
+def scene_with(scene: Scene, assignments: Mapping[str, object]) -> Scene:
+    """``scene`` with the swept scene settings (``scene.carrier_speed_rpm``) set and
+    validated; the scene itself when the point sets none."""
+    changes = {
+        path.removeprefix("scene."): value
+        for path, value in assignments.items()
+        if path.startswith("scene.")
+    }
+    if not changes:
+        return scene
+    changed = dataclasses.replace(scene, **changes)
+    changed.validate(f"scenes.{scene.name}")
+    return changed
 
 
 def point_hash(case: Case, scene: Scene, formulation: str) -> str:
