@@ -11,11 +11,11 @@ import argparse
 import sys
 
 from ..errors import CaseError
-from . import accuracy, batch, modal, run
+from . import accuracy, batch, campbell, modal, run
 
 __all__ = ["build_parser", "main"]
 
-_FAMILIES = (run, modal, batch, accuracy)
+_FAMILIES = (run, modal, campbell, batch, accuracy)
 """Command families, in the order their subcommands are listed."""
 
 _USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal", "SignalError"))

@@ -1,0 +1,206 @@
+"""``pygear campbell``: natural frequencies over a speed range with Cooley & Parker's
+gyroscopic and centripetal terms, crossings with mesh and shaft orders, instabilities.
+
+The handler checks every option before it loads the analysis, and imports its work when
+called, so ``pygear --help`` loads none of it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+from ..errors import CaseError
+from ..model.case import load_case
+
+__all__ = ["HANDLERS", "add_parsers", "campbell_summary", "parse_speeds"]
+
+MEMBERS = ("carrier", "input")
+"""Reference members the speeds may be given for."""
+
+MAX_COUNT = 100_000
+"""Most speeds one diagram computes."""
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``campbell`` subcommand."""
+    campbell = commands.add_parser(
+        "campbell",
+        help="Campbell diagram: frequencies over speed, order crossings, instabilities",
+    )
+    campbell.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    campbell.add_argument(
+        "--scene", help="scene whose formulation and DOF set apply (default: first modal scene)"
+    )
+    campbell.add_argument(
+        "--speeds",
+        required=True,
+        metavar="START:STOP:COUNT",
+        help="speeds of the reference member [rpm]: COUNT equally spaced from START to "
+        "STOP (a negative START: --speeds=-100:100:21)",
+    )
+    campbell.add_argument(
+        "--member",
+        default="carrier",
+        help="reference member: carrier (first planetary stage's) or input (default carrier)",
+    )
+    campbell.add_argument(
+        "--harmonics", default="3", help="mesh harmonics to cross with (default 3)"
+    )
+    campbell.add_argument(
+        "--damping", action="store_true", help="include the case's damping (damping ratios)"
+    )
+    campbell.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    campbell.add_argument(
+        "--out", type=Path, help="directory of campbell.nc and campbell.png (default out/<case>)"
+    )
+
+
+def parse_speeds(text: str) -> tuple[float, float, int]:
+    """``START:STOP:COUNT`` as (start, stop, count); START < STOP, COUNT >= 2."""
+    parts = str(text).split(":")
+    rule = "--speeds must read START:STOP:COUNT with START < STOP and a whole COUNT >= 2"
+    if len(parts) != 3:
+        raise CaseError(f"{rule} (got {text!r})")
+    try:
+        start, stop = float(parts[0]), float(parts[1])
+        count_value = float(parts[2])
+    except ValueError:
+        raise CaseError(f"{rule} (got {text!r})") from None
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise CaseError(f"--speeds START and STOP must be finite numbers (got {text!r})")
+    if not start < stop:
+        raise CaseError(f"--speeds START must be below STOP (got {text!r})")
+    if not (math.isfinite(count_value) and count_value == int(count_value) and count_value >= 2):
+        raise CaseError(f"--speeds COUNT must be a whole number >= 2 (got {parts[2]!r})")
+    count = int(count_value)
+    if count > MAX_COUNT:
+        raise CaseError(f"--speeds COUNT may be at most {MAX_COUNT} (got {count})")
+    return start, stop, count
+
+
+def _harmonics(text: str) -> int:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value == int(value) and 0 <= value <= 100):
+        raise CaseError(f"--harmonics must be a whole number from 0 to 100 (got {text!r})")
+    return int(value)
+
+
+def campbell_summary(campbell) -> dict:
+    """The numbers ``--json`` prints for a Campbell diagram."""
+    crossings = [
+        {
+            "speed_rpm": float(speed),
+            "mode": int(mode),
+            "order": float(order),
+            "excitation": str(name),
+            "frequency_hz": float(frequency),
+            "excitability": float(share),
+        }
+        for speed, mode, order, name, frequency, share in zip(
+            campbell.crossing_speed.values,
+            campbell.crossing_mode.values,
+            campbell.crossing_order.values,
+            campbell.crossing_excitation.values,
+            campbell.crossing_frequency.values,
+            campbell.crossing_excitability.values,
+        )
+    ]
+    return {
+        "case": campbell.attrs["case"],
+        "reference": campbell.attrs["reference"],
+        "formulation": campbell.attrs["formulation"],
+        "speeds_rpm": campbell.speed.values.tolist(),
+        "frequencies_hz": campbell.frequency.values.tolist(),
+        "crossings": crossings,
+        "unstable": [
+            [float(a), float(b)]
+            for a, b in zip(campbell.unstable_start.values, campbell.unstable_stop.values)
+        ],
+        "unstable_kind": [str(k) for k in campbell.unstable_kind.values],
+    }
+
+
+def _print_table(campbell, summary: dict) -> None:
+    speeds = campbell.speed.values
+    print(
+        f"{campbell.attrs['case']}: {campbell.attrs['formulation']} formulation, "
+        f"{campbell.attrs['dof_set']} DOF set, speeds of {campbell.attrs['reference']} "
+        f"{speeds[0]:g} to {speeds[-1]:g} rpm ({speeds.size} speeds)"
+    )
+    print(f"{'mode':>4}  {'class':<14} {'f start [Hz]':>12} {'f stop [Hz]':>12}  whirl at stop")
+    for m in range(campbell.sizes["mode"]):
+        print(
+            f"{m + 1:>4}  {str(campbell.mode_class.values[0, m]):<14} "
+            f"{campbell.frequency.values[0, m]:>12.1f} {campbell.frequency.values[-1, m]:>12.1f}"
+            f"  {campbell.whirl.values[-1, m]}"
+        )
+    crossings = sorted(summary["crossings"], key=lambda c: -c["excitability"])
+    print(f"{len(crossings)} crossings; the most excitable:")
+    for c in crossings[:10]:
+        print(
+            f"  {c['speed_rpm']:>12.2f} rpm  mode {c['mode']:>3}  {c['excitation']:<24} "
+            f"{c['frequency_hz']:>10.1f} Hz  share {c['excitability']:.3f}"
+        )
+    if summary["unstable"]:
+        for (start, stop), kind in zip(summary["unstable"], summary["unstable_kind"]):
+            print(f"unstable ({kind}): {start:.6g} to {stop:.6g} rpm")
+    else:
+        print("no unstable speed in the range")
+
+
+def _campbell(args: argparse.Namespace) -> int:
+    start, stop, count = parse_speeds(args.speeds)
+    if args.member not in MEMBERS:
+        raise CaseError(f"--member must be one of {', '.join(MEMBERS)} (got {args.member!r})")
+    harmonics = _harmonics(args.harmonics)
+    if args.out is not None and args.out.exists() and not args.out.is_dir():
+        raise CaseError(f"--out {str(args.out)!r} is a file: campbell writes into a directory")
+    case = load_case(args.case)
+    if args.scene is not None:
+        scene = case.scene(args.scene)
+    else:
+        scene = next((s for s in case.scenes if "modal" in s.analyses), None)
+
+    import numpy as np
+
+    from ..analysis.campbell import campbell_diagram
+    from ..assembly.speed_terms import reference_label
+    from ..io import write_netcdf
+    from ..plots.campbell import plot_campbell
+    from ..runs.json_output import json_text
+
+    reference_label(case, args.member)  # a case without a planetary stage, before any work
+    campbell = campbell_diagram(
+        case,
+        np.linspace(start, stop, count),
+        scene=scene,
+        member=args.member,
+        harmonics=harmonics,
+        damping=args.damping,
+    )
+    out = args.out or Path("out") / case.name
+    path = write_netcdf(
+        campbell,
+        out / "campbell.nc",
+        input_hash=case.input_hash(),
+        title=f"Campbell diagram of {case.name} over the speed of {campbell.attrs['reference']}",
+    )
+    figure = out / "campbell.png"
+    plot_campbell(campbell, figure)
+    summary = campbell_summary(campbell)
+    if args.json:
+        print(json_text({**summary, "files": [str(path), str(figure)]}))
+        return 0
+    _print_table(campbell, summary)
+    print(f"wrote {path} and {figure}")
+    return 0
+
+
+HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {"campbell": _campbell}
+"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""
