@@ -21,7 +21,7 @@ import pytest
 import scipy.linalg
 import xarray as xr
 
-from pygear import Scene
+from pygear import Scene, load_case
 from pygear.analysis.campbell import campbell_diagram, check_speeds, unstable_ranges
 from pygear.analysis.gyroscopic import (
     GROWTH_TOLERANCE,
@@ -178,13 +178,23 @@ def test_crossings_lie_on_their_lines(study_case, study_campbell):
         study_campbell.crossing_frequency.values,
     ):
         assert frequency == pytest.approx(order * speed / 60.0, rel=1e-12)
-        if not str(name).startswith("planetary mesh"):
+        if "mesh" not in str(name):
             continue
         direct = speed_dependent_modes(model, study_case, float(speed)).frequency.values
         assert np.min(np.abs(direct / frequency - 1)) < 1e-4
         rotational_mesh += mode == 18
-    # the highest rotational mode (11 824 Hz at rest) meets mesh harmonics 1..3 in range
-    assert rotational_mesh == 3
+    # the highest rotational mode (11 824 Hz at rest) meets harmonics 1..3 of both the
+    # ring mesh (96 carrier orders) and the sun mesh (Z_s r_br/r_bs = 95.93: Table 1's
+    # base radii and tooth numbers differ by 0.07 %) in range
+    assert rotational_mesh == 6
+    names = set(study_campbell.excitation.values)
+    assert {"planetary ring mesh 1x", "planetary sun mesh 1x"} <= names
+    orders = dict(zip(study_campbell.excitation.values, study_campbell.excitation_order.values))
+    stage = study_case.gearbox.stages[0]
+    assert orders["planetary ring mesh 1x"] == pytest.approx(stage.ring.teeth, rel=1e-9)
+    assert orders["planetary sun mesh 1x"] == pytest.approx(
+        stage.sun.teeth * stage.ring.base_radius / stage.sun.base_radius, rel=1e-9
+    )
 
 
 def test_mesh_excitability_is_the_meshes_share_of_strain_energy(study_case, study_campbell):
@@ -201,7 +211,7 @@ def test_mesh_excitability_is_the_meshes_share_of_strain_energy(study_case, stud
         shape = modal.shape.values[:, m]
         expected = shape @ meshes @ shape / (shape @ model.stiffness @ shape)
         tracked = int(np.argmin(np.abs(first.frequency.values - modal.frequency.values[m])))
-        share = float(first.mesh_energy_share.values[tracked, 0])
+        share = float(first.mesh_energy_share.values[tracked].sum())
         # two sums of the same spring energies in another order: round-off
         assert share == pytest.approx(expected, rel=1e-9)
 
@@ -357,3 +367,18 @@ def test_sweep_over_speed_refusals(tmp_path, study_case, path, scene, message):
             out_dir=tmp_path,
             progress=False,
         )
+
+
+def test_every_stage_turns_at_its_own_carrier_speed():
+    """In Yang et al.'s gearbox stage 1's sun drives stage 2's carrier: stage 2's frame
+    turns at stage 1's ratio 1 + r_br/r_bs times the input (ring held), and the
+    parallel pair's mesh order is Z_1 times its input gear's speed ratio."""
+    case = load_case(CASES / "yang2016_gearbox")
+    model = assemble(case, case.scene("modal"))
+    terms = speed_terms(model, case)
+    first, second, parallel = case.gearbox.stages
+    assert terms.frame_ratios[first.name] == pytest.approx(1.0, rel=1e-12)
+    # the free rotation's ratios against the ideal kinematics of the base radii
+    assert terms.frame_ratios[second.name] == pytest.approx(first.speed_ratio, rel=1e-9)
+    input_gear = terms.speed_ratios[f"{parallel.name}.input_gear"]
+    assert input_gear == pytest.approx(first.speed_ratio * second.speed_ratio, rel=1e-9)

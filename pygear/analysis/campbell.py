@@ -106,7 +106,8 @@ def campbell_diagram(
     xarray.Dataset
         Over (``speed``, ``mode``): ``frequency``, ``growth_rate``, ``damping_ratio``,
         ``stability``, ``whirl``, ``whirl_ratio``, ``mode_class``, ``tracking_mac``;
-        ``mesh_energy_share`` over (``speed``, ``mode``, ``mesh_stage``); the
+        ``mesh_energy_share`` over (``speed``, ``mode``, ``mesh``) and
+        ``excitation_energy_share`` over (``speed``, ``mode``, ``excitation``); the
         excitation lines over ``excitation``; the crossings over ``crossing``; the
         unstable ranges over ``unstable_range``.
     """
@@ -169,22 +170,25 @@ class _Excitation:
     stage: str
     harmonic: int
     order: float  # per revolution of the reference
-    bodies: tuple[str, ...]
+    sources: tuple[str, ...]  # meshes (stage.sun_mesh, ...) or bodies (stage.member)
 
 
 def _excitations(
     case: Case, terms: SpeedTerms, harmonics: int, shaft_harmonics: int
 ) -> list[_Excitation]:
+    """Mesh harmonics of every mesh (a stage's sun and ring meshes as one line when their
+    orders agree to 1e-9) and shaft orders of every turning body."""
     ratio = terms.speed_ratios
     found: list[_Excitation] = []
     for stage in case.gearbox.stages:
-        mesh_order = _mesh_order(stage, ratio)
-        if mesh_order is None:
-            continue
-        for h in range(1, harmonics + 1):
-            found.append(
-                _Excitation(f"{stage.name} mesh {h}x", "mesh", stage.name, h, h * mesh_order, ())
-            )
+        meshes = _mesh_orders(stage, ratio)
+        if len(meshes) == 2 and abs(meshes[0][1] - meshes[1][1]) <= 1e-9 * meshes[0][1]:
+            meshes = [(f"{stage.name} mesh", meshes[0][1], meshes[0][2] + meshes[1][2])]
+        for label, order, sources in meshes:
+            for h in range(1, harmonics + 1):
+                found.append(
+                    _Excitation(f"{label} {h}x", "mesh", stage.name, h, h * order, sources)
+                )
     lines: dict[tuple[str, float], list[str]] = {}
     for pair in terms.pairs:
         relative = abs(pair.spin_ratio - pair.frame_ratio)
@@ -201,40 +205,51 @@ def _excitations(
     return found
 
 
-def _mesh_order(stage: Any, ratio: dict[str, float]) -> float | None:
-    """Mesh events per revolution of the reference, or None without tooth numbers."""
+def _mesh_orders(stage: Any, ratio: dict[str, float]) -> list[tuple[str, float, tuple[str]]]:
+    """(label, mesh events per revolution of the reference, mesh keys) of a stage's
+    meshes with tooth numbers: Z_s |n_s - n_c| and Z_r |n_c - n_r| for a planetary
+    stage (equal when the base radii follow the tooth numbers), Z_1 |n_1| for a pair."""
+    name = stage.name
     if isinstance(stage, PlanetaryStage):
         carrier, ring, sun = (
-            ratio.get(f"{stage.name}.{member}", 0.0) for member in ("carrier", "ring", "sun")
+            ratio.get(f"{name}.{member}", 0.0) for member in ("carrier", "ring", "sun")
         )
-        if stage.ring.teeth:
-            return stage.ring.teeth * abs(carrier - ring)
+        meshes = []
         if stage.sun.teeth:
-            return stage.sun.teeth * abs(sun - carrier)
-        return None
+            order = stage.sun.teeth * abs(sun - carrier)
+            meshes.append((f"{name} sun mesh", order, (f"{name}.sun_mesh",)))
+        if stage.ring.teeth:
+            order = stage.ring.teeth * abs(carrier - ring)
+            meshes.append((f"{name} ring mesh", order, (f"{name}.ring_mesh",)))
+        return meshes
     if isinstance(stage, ParallelStage) and stage.input_gear.teeth:
-        return stage.input_gear.teeth * abs(ratio.get(f"{stage.name}.input_gear", 0.0))
-    return None
+        order = stage.input_gear.teeth * abs(ratio.get(f"{name}.input_gear", 0.0))
+        return [(f"{name} mesh", order, (f"{name}.mesh",))]
+    return []
 
 
 # --------------------------------------------------------------------------- the dataset
 
 
-def _mesh_shares(model: Any, shapes: np.ndarray, stages: list[str]) -> np.ndarray:
-    """Share of each mode's strain energy (mean stiffness) in each stage's meshes."""
+def _mesh_key(spring: Any) -> str:
+    """``stage.sun_mesh``, ``stage.ring_mesh`` or ``stage.mesh``: the spring's stiffness
+    parameter without ``.stiffness``."""
+    return spring.parameters[0].removesuffix(".stiffness")
+
+
+def _mesh_shares(model: Any, shapes: np.ndarray, meshes: list[str]) -> np.ndarray:
+    """Share of each mode's strain energy (mean stiffness) in each mesh (all planets)."""
     full = model.reduction @ shapes
     total = np.zeros(shapes.shape[1])
-    per_stage = np.zeros((shapes.shape[1], len(stages)))
+    per_mesh = np.zeros((shapes.shape[1], len(meshes)))
     for spring in model.springs:
         stretch = np.abs(spring.deflection.T @ full[spring.dofs]) ** 2  # springs x modes
         energy = spring.stiffness @ stretch
         total += energy
         if spring.kind == "mesh":
-            stage = spring.name.split(".", 1)[0]
-            if stage in stages:
-                per_stage[:, stages.index(stage)] += energy
+            per_mesh[:, meshes.index(_mesh_key(spring))] += energy
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(total[:, None] > 0, per_stage / total[:, None], 0.0)
+        return np.where(total[:, None] > 0, per_mesh / total[:, None], 0.0)
 
 
 def _body_shares(terms: SpeedTerms, shapes: np.ndarray) -> dict[str, np.ndarray]:
@@ -252,7 +267,7 @@ def _dataset(
     speeds, tracked = tracking.speeds, tracking.modes
     tracking_mac, ambiguous = tracking.mac, tracking.ambiguous
     n_modes = tracked[0].eigenvalues.size
-    stages = sorted({s.name.split(".", 1)[0] for s in model.springs if s.kind == "mesh"})
+    meshes = list(dict.fromkeys(_mesh_key(s) for s in model.springs if s.kind == "mesh"))
     frequency = np.array([m.frequencies for m in tracked])
     growth = np.array([m.eigenvalues.real for m in tracked])
     damping = np.array([m.damping_ratios for m in tracked])
@@ -260,18 +275,21 @@ def _dataset(
     whirl_ratio = np.zeros((speeds.size, n_modes))
     whirl = np.empty((speeds.size, n_modes), dtype=object)
     classes = np.empty((speeds.size, n_modes), dtype=object)
-    mesh_share = np.zeros((speeds.size, n_modes, len(stages)))
-    shaft_share = np.zeros((speeds.size, n_modes, len(excitations)))
+    mesh_share = np.zeros((speeds.size, n_modes, len(meshes)))
+    excited_share = np.zeros((speeds.size, n_modes, len(excitations)))
     for k, (speed, modes) in enumerate(zip(speeds, tracked)):
         ratio, translating = whirl_ratios(terms, modes, float(speed))
         whirl_ratio[k] = ratio
         whirl[k] = whirl_names(ratio, modes.rigid | ~translating)
         classes[k] = classify_by_stage(model, modes.shapes)[1]
-        mesh_share[k] = _mesh_shares(model, modes.shapes, stages)
+        mesh_share[k] = _mesh_shares(model, modes.shapes, meshes)
         bodies = _body_shares(terms, modes.shapes)
         for e, excitation in enumerate(excitations):
-            if excitation.kind == "shaft":
-                shaft_share[k, :, e] = sum(bodies[b] for b in excitation.bodies)
+            if excitation.kind == "mesh":
+                chosen = [meshes.index(key) for key in excitation.sources if key in meshes]
+                excited_share[k, :, e] = mesh_share[k][:, chosen].sum(axis=1)
+            else:
+                excited_share[k, :, e] = sum(bodies[b] for b in excitation.sources)
     dims = ("speed", "mode")
 
     def var(dims, values, units, long_name):
@@ -299,10 +317,10 @@ def _dataset(
                 "1 where the step from the previous speed stayed ambiguous after refinement",
             ),
             "mesh_energy_share": var(
-                (*dims, "mesh_stage"),
+                (*dims, "mesh"),
                 mesh_share,
                 "1",
-                "share of the mode's strain energy in the stage's meshes",
+                "share of the mode's strain energy in the mesh (all its planets)",
             ),
             "excitation_order": var(
                 ("excitation",),
@@ -328,19 +346,20 @@ def _dataset(
                 "1",
                 "harmonic of the mesh frequency or of the shaft speed",
             ),
-            "shaft_energy_share": var(
+            "excitation_energy_share": var(
                 (*dims, "excitation"),
-                shaft_share,
+                excited_share,
                 "1",
-                "share of the mode's kinetic energy in the in-plane translation of the "
-                "excitation's bodies (shaft orders; 0 for mesh orders)",
+                "excitability: mesh lines, the share of the mode's strain energy in their "
+                "meshes; shaft lines, the share of its kinetic energy in the in-plane "
+                "translation of their bodies",
             ),
         },
         coords={
             "speed": var(("speed",), speeds, "rpm", "speed of the reference member"),
             "mode": var(("mode",), np.arange(1, n_modes + 1), "1", "tracked mode number"),
-            "mesh_stage": var(
-                ("mesh_stage",), np.array(stages, dtype=object), "1", "stage of the meshes"
+            "mesh": var(
+                ("mesh",), np.array(meshes, dtype=object), "1", "mesh (stage.sun_mesh, ...)"
             ),
             "excitation": var(
                 ("excitation",),
@@ -369,10 +388,7 @@ def _with_crossings(dataset: xr.Dataset, excitations: list[_Excitation]) -> xr.D
                     continue
                 weight = 0.0 if a == 0 else a / (a - b)
                 speed = speeds[k] + weight * (speeds[k + 1] - speeds[k])
-                if excitation.kind == "mesh":
-                    shares = dataset.mesh_energy_share.sel(mesh_stage=excitation.stage).values
-                else:
-                    shares = dataset.shaft_energy_share.values[:, :, e]
+                shares = dataset.excitation_energy_share.values[:, :, e]
                 share = (1 - weight) * shares[k, m] + weight * shares[k + 1, m]
                 rows.append(
                     (
