@@ -5,6 +5,8 @@ The parameters are Lin & Parker's (1999) example; Table 1 prints them with a
 paper is marked ASSUMED with the reason.
 """
 
+import math
+
 from pygear import (
     Bearing,
     Carrier,
@@ -140,6 +142,63 @@ TORQUE_REVERSAL = Transient(
     mean_window=0.01,  # s: the last 10 ms, after the reversal
 )
 
+# Wide run-up (not in the paper): the carrier's speed rises along a straight line from
+# rest to twice the run-up's 120 rpm under the rated mesh load, so the mesh harmonics
+# 4-10 sweep through the 1334 Hz rotational mode (docs/campbell.md, "The run-up meets the
+# Campbell diagram").  The drive balances the load, accelerates the gearbox's
+# carrier-referred inertia J at a constant rate A and adds alpha J A t, the mass-
+# proportional damping's torque on the rigid rotation: J w' + alpha J w = J A (1 + alpha t)
+# holds for w = A t, so the speed is linear in time.
+MASS_DAMPING = 0.13  # alpha [1/s] of the case's Rayleigh damping, ASSUMED (see below)
+WIDE_TOP_SPEED_RPM = 240.0  # ASSUMED: twice omega_0 (the run-up settles at 118.8 rpm)
+# s, ASSUMED: 60 rpm/s, about a second of computation; an order-tracking window of W
+# revolutions at n rpm then spans 3600 W / n rpm of speed
+WIDE_DURATION = 4.0
+WIDE_RATIO = 1.0 + RING_BASE_RADIUS / stage.sun.base_radius  # i = n_sun / n_carrier
+# J [kg m^2] of the improved formulation's rigid rotation, planet spin taken relative to
+# the carrier: J_c + N (m_p r_c^2 + J_p (r_br/r_bp)^2) + J_s i^2 = 0.12415 (Table 1)
+WIDE_INERTIA = (
+    stage.carrier.polar_inertia
+    + stage.planets
+    * (
+        stage.planet.mass * stage.carrier.radius**2
+        + stage.planet.polar_inertia * (RING_BASE_RADIUS / stage.planet.base_radius) ** 2
+    )
+    + stage.sun.polar_inertia * WIDE_RATIO**2
+)
+WIDE_LOAD = DRIVE_TORQUE / WIDE_RATIO  # N m on the sun, ASSUMED: the rated 10 N m load
+WIDE_ACCELERATION_TORQUE = (  # J A [N m], A = top speed / duration
+    WIDE_INERTIA * WIDE_TOP_SPEED_RPM * 2.0 * math.pi / 60.0 / WIDE_DURATION
+)
+RUNUP_WIDE = Transient(
+    duration=WIDE_DURATION,
+    time_step=2.5e-5,  # s, the run-up's (paper section 5.3)
+    sample_rate=40e3,  # Hz, the run-up's: orders up to f_s / (2 n_max) = 5000 at 240 rpm
+    integrator="newmark",
+    equivalent_load="predictor",  # as the run-up
+    input="planetary.carrier.theta_z",
+    output="planetary.sun.theta_z",
+    drive=TorqueLaw.table(
+        [0.0, WIDE_DURATION],
+        [
+            WIDE_RATIO * WIDE_LOAD + WIDE_ACCELERATION_TORQUE,
+            WIDE_RATIO * WIDE_LOAD
+            + WIDE_ACCELERATION_TORQUE * (1.0 + MASS_DAMPING * WIDE_DURATION),
+        ],
+    ),
+    load=TorqueLaw.constant(WIDE_LOAD),
+    probes=(
+        Probe("speed", "planetary.carrier"),  # the order-tracking reference
+        Probe("acceleration", "planetary.sun.theta_z"),  # sees the rotational modes
+        Probe("mesh_force", "sun-planet1"),
+        Probe("mesh_force", "ring-planet1"),
+        Probe("drive_torque"),
+    ),
+    # s: the ramp never settles; the "equilibrium" speeds are those of its last 0.1 s
+    # (their ratios give pygear analyze its mesh orders)
+    mean_window=0.1,
+)
+
 case = Case(
     name="yang2016_planetary",
     description="Planetary study case of Yang, Jiang & Han (2016), Table 1",
@@ -147,7 +206,7 @@ case = Case(
     formulation="improved",  # the seed's own model; scenes name the others
     # ASSUMED: the paper's Rayleigh coefficients were lost; alpha = 0.13 1/s reproduces
     # its Table 3 with the load law of docs/model.md §6.3, beta = 1e-6 s (§3.7)
-    damping=RayleighDamping(mass_coefficient=0.13, stiffness_coefficient=1e-6),
+    damping=RayleighDamping(mass_coefficient=MASS_DAMPING, stiffness_coefficient=1e-6),
     scenes=(
         Scene("modal", analyses=("modal",), formulation="improved", dof_set="planar"),
         Scene("modal_lin_parker", analyses=("modal",), formulation="lin-parker", dof_set="planar"),
@@ -178,6 +237,16 @@ case = Case(
             effects=("time_varying_mesh_stiffness",),
             transient=RUNUP,
             parameters={"planetary.planet_angles_deg": (0.0, 120.1, 240.0)},
+        ),
+        # 0 -> 240 rpm at a constant rate for order tracking against the Campbell diagram
+        # (no "signal": a spectrum over a sweep smears every order)
+        Scene(
+            "runup_wide",
+            analyses=("transient",),
+            formulation="improved",
+            dof_set="planar",
+            effects=("time_varying_mesh_stiffness",),
+            transient=RUNUP_WIDE,
         ),
         Scene(
             "torque_reversal",
