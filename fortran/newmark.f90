@@ -15,7 +15,11 @@
 !>
 !> Matrices are symmetric band matrices in LAPACK lower storage (ab(1 + i - j, j) =
 !> A(i, j), j <= i <= j + kd); Khat is factored with dpbtrf and solved with dpbtrs
-!> (module band_lapack).
+!> (module band_lapack), or, on the dense path (iparam(ip_solver) = solver_dense), each
+!> solve is a product with a dense operator (module newmark_dense) that the problem
+!> keeps at mean mesh stiffness; an advance forms it at the run's k_factored when a
+!> refactor moved that, so the run's state stays the same on both paths (khat_factor,
+!> the band factor, is used on the banded path only).
 !> The DOF order is the caller's (reverse Cuthill-McKee in pygear).
 !>
 !> Meshes (equivalent load, the paper's eq. 25): mesh m has a sparse deflection
@@ -64,7 +68,8 @@ module newmark
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem
   use newmark_probes, only: record_probes
-  use band_lapack, only: band_cholesky_factor, band_cholesky_solve
+  use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
+  use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update
   implicit none
   private
 
@@ -238,7 +243,7 @@ contains
     real(dp), intent(inout) :: k_used(problem%n_mesh)                 !< mesh stiffness in force [N/m]
     real(dp), intent(inout) :: mesh_var(problem%n_mesh)               !< (k_m - kbar_m) delta_m [N]
     real(dp), intent(inout) :: k_factored(problem%n_mesh)             !< stiffness in the factor [N/m]
-    real(dp), intent(inout) :: khat_factor(problem%kd + 1, problem%n) !< factor of Khat at k_factored [N/m]
+    real(dp), intent(inout) :: khat_factor(problem%kd + 1, problem%n) !< factor of Khat at k_factored (banded path) [N/m]
     real(dp), intent(inout) :: velocity_sum(problem%n)                !< sum of v over the window [m/s, rad/s]
     real(dp), intent(inout) :: rstate(n_rstate)                       !< t_s [s], drive, load torque [N m]
     integer(ik), intent(inout) :: istate(n_istate)                    !< counters (see layout) [-]
@@ -247,16 +252,18 @@ contains
     integer(ik), intent(out) :: bad                                   !< offending DOF, mesh or index [-]
     integer(ik), intent(out) :: ierr                                  !< error code (0 = ok)
 
-    real(dp), allocatable :: qt(:), vt(:), r0(:), rhs(:), a_new(:), q_new(:), v_new(:), wc(:), wk(:)
+    real(dp), allocatable :: qt(:), vt(:), r0(:), rhs(:), a_new(:), v_new(:), wc(:), wk(:)
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
     real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :), k_coast(:), offset(:)
+    real(dp), allocatable :: fused(:), a_base(:), load_old(:), x_transposed(:, :)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:)
     type(tooth_contact_table) :: table, coast_table
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
     integer(ik) :: info, n, kd, n_mesh, n_probe
-    logical :: nonlinear, converged, load_on, restart, separation, coast_flank
+    integer(ik) :: loads, masses, columns
+    logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -264,6 +271,7 @@ contains
     n_mesh = problem%n_mesh
     n_probe = int(size(probe_kind), ik)
     n_samples = 0
+    speed_old = 0.0_dp
     bad = 0
     ierr = nm_ok
     if (n_steps < 0 .or. size(samples, 1) /= n_probe .or. .not. rows_fit(probes, n_probe, 0_ik)) then
@@ -297,11 +305,32 @@ contains
     nonlinear = mode /= mode_linear .and. n_mesh > 0
     load_on = istate(is_load_on) /= 0
 
-    allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), q_new(n), v_new(n), wc(n), wk(n))
+    allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), v_new(n), wc(n), wk(n))
     allocate (delta(n_mesh), delta_t(n_mesh), k_eff(n_mesh), k_step(n_mesh), g(n_mesh), g_new(n_mesh))
     allocate (compression(n_mesh), k_coast(n_mesh), offset(n_mesh), flank(n_mesh))
+    offset = 0.0_dp
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, problem%table%max_pairs, n_mesh))
+    dense = problem%iparam(ip_solver) == solver_dense
+    loads = load_block(n)
+    masses = mass_block(n, n_mesh)
+    columns = dense_columns(n, n_mesh)
+    ! one solve per step: on the dense path one product with X's state and load blocks
+    single = mode == mode_linear .or. mode == mode_predictor
+    allocate (fused(masses), a_base(n), load_old(n_mesh + 2))
+    if (dense) then  ! X^T at this run's k_factored (module newmark_dense)
+      allocate (x_transposed(columns, n))
+      if (any(k_factored /= problem%mean_stiffness)) then
+        call stiffness_update(n, n_mesh, problem%dense_operator, problem%dense_mesh_products, &
+                              k_factored - problem%mean_stiffness, scale_k, x_transposed, info)
+        if (info /= 0) then
+          ierr = nm_err_definite
+          return
+        end if
+      else
+        x_transposed = problem%dense_operator
+      end if
+    end if
     restart = problem%iparam(ip_restart) /= 0 .and. nonlinear .and. problem%iparam(ip_varying) /= 0
     if (restart) then  ! M's factor for the restarts, once per call
       allocate (mass_factor(kd + 1, n))
@@ -325,14 +354,31 @@ contains
       t_new = real(istate(is_step) + 1, dp) * dt
       qt = q + dt * v + (dt * dt * (0.5_dp - beta)) * a
       vt = v + (dt * (1.0_dp - gamma)) * a
-      ! r0: everything on the right that does not change within the step
-      wc = (1.0_dp - alpha_f) * vt + alpha_f * v
-      wk = (1.0_dp - alpha_f) * qt + alpha_f * q
-      r0 = 0.0_dp
-      call band_multiply(n, kd, problem%damping_band, wc, -1.0_dp, r0)
-      call band_multiply(n, kd, problem%stiffness_band, wk, -1.0_dp, r0)
-      if (alpha_m /= 0.0_dp) call band_multiply(n, kd, problem%mass_band, a, -alpha_m, r0)
-      if (alpha_f /= 0.0_dp) then
+      ! r0: everything on the right that does not change within the step (dense path:
+      ! its weights wc, wk in fused(1:2n), a_0 = X_C wc + X_K wk + X_M alpha_m a and the
+      ! old loads' shares)
+      if (dense) then
+        if (alpha_f == 0.0_dp) then
+          fused(1:n) = vt
+          fused(n + 1:loads) = qt
+        else
+          fused(1:n) = (1.0_dp - alpha_f) * vt + alpha_f * v
+          fused(n + 1:loads) = (1.0_dp - alpha_f) * qt + alpha_f * q
+        end if
+        if (.not. single) call state_product()
+        load_old = 0.0_dp
+        load_old(1) = alpha_f * rstate(rs_drive)
+        load_old(2) = -alpha_f * rstate(rs_load)
+        if (nonlinear) load_old(3:) = -alpha_f * mesh_var
+      else
+        wc = (1.0_dp - alpha_f) * vt + alpha_f * v
+        wk = (1.0_dp - alpha_f) * qt + alpha_f * q
+        r0 = 0.0_dp
+        call band_multiply(n, kd, problem%damping_band, wc, -1.0_dp, r0)
+        call band_multiply(n, kd, problem%stiffness_band, wk, -1.0_dp, r0)
+        if (alpha_m /= 0.0_dp) call band_multiply(n, kd, problem%mass_band, a, -alpha_m, r0)
+      end if
+      if (alpha_f /= 0.0_dp .and. .not. dense) then
         call add_member(problem%members, 1, alpha_f * rstate(rs_drive), r0)
         call add_member(problem%members, 2, -alpha_f * rstate(rs_load), r0)
         if (nonlinear) then
@@ -341,7 +387,7 @@ contains
           end do
         end if
       end if
-      speed_old = member_speed(problem%members, 1, v)
+      if (omega_0 > 0.0_dp .and. .not. load_on) speed_old = member_speed(problem%members, 1, v)
 
       ! first evaluation at the Newmark predictor (a = 0: q = qt)
       a_new = 0.0_dp
@@ -371,21 +417,38 @@ contains
       it = 0
       do
         it = it + 1
-        rhs = r0
-        call add_member(problem%members, 1, (1.0_dp - alpha_f) * drive, rhs)
-        call add_member(problem%members, 2, -(1.0_dp - alpha_f) * load, rhs)
-        if (nonlinear) then
-          do m = 1, n_mesh
-            call add_sparse(problem%mesh, m, -(1.0_dp - alpha_f) * g(m), rhs)
-          end do
+        if (dense) then  ! a = a_0 + X_L [drive; -load; -g]
+          fused(loads + 1) = load_old(1) + (1.0_dp - alpha_f) * drive
+          fused(loads + 2) = load_old(2) - (1.0_dp - alpha_f) * load
+          fused(loads + 3:) = load_old(3:) - (1.0_dp - alpha_f) * g
+          if (single) then  ! a_0 and the loads in one product
+            a_new = 0.0_dp
+            call dense_multiply_transposed(masses, n, x_transposed, columns, 0_ik, fused, 1.0_dp, &
+                                           a_new)
+            if (alpha_m /= 0.0_dp) call dense_multiply_transposed(n, n, x_transposed, columns, &
+                                                                  masses, alpha_m * a, 1.0_dp, a_new)
+          else
+            a_new = a_base
+            call dense_multiply_transposed(n_mesh + 2, n, x_transposed, columns, loads, &
+                                           fused(loads + 1:), 1.0_dp, a_new)
+          end if
+        else
+          rhs = r0
+          call add_member(problem%members, 1, (1.0_dp - alpha_f) * drive, rhs)
+          call add_member(problem%members, 2, -(1.0_dp - alpha_f) * load, rhs)
+          if (nonlinear) then
+            do m = 1, n_mesh
+              call add_sparse(problem%mesh, m, -(1.0_dp - alpha_f) * g(m), rhs)
+            end do
+          end if
+          rhs = scale_k * rhs
+          call band_cholesky_solve(n, kd, khat_factor, rhs, info)
+          if (info /= 0) then
+            ierr = nm_err_solve
+            return
+          end if
+          a_new = rhs
         end if
-        rhs = scale_k * rhs
-        call band_cholesky_solve(n, kd, khat_factor, rhs, info)
-        if (info /= 0) then
-          ierr = nm_err_solve
-          return
-        end if
-        a_new = rhs
         if (mode == mode_linear .or. mode == mode_predictor) then
           converged = .true.
           exit
@@ -425,18 +488,16 @@ contains
         return
       end if
 
-      ! accept the step
-      q_new = qt + (beta * dt * dt) * a_new
-      v_new = vt + (gamma * dt) * a_new
+      ! accept the step (the state stays the last good one until every check passed)
       if (.not. (maxval(abs(a_new)) <= problem%rparam(rp_acceleration))) then
+        v_new = vt + (gamma * dt) * a_new
         ierr = nm_err_not_finite
         bad = first_bad(a_new, v_new)
         return
       end if
       if (nonlinear) then
-        do m = 1, n_mesh
-          delta(m) = delta_t(m) + (beta * dt * dt) * sparse_dot(problem%mesh, m, a_new)
-        end do
+        call sparse_products(problem%mesh, a_new, delta)
+        delta = delta_t + (beta * dt * dt) * delta
         ! inside the backlash the teeth may gape; only the flank in contact runs away
         if (separation) then
           do m = 1, n_mesh
@@ -452,13 +513,17 @@ contains
           return
         end if
         k_used = k_eff
-        mesh_var = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
+        if (separation) then
+          mesh_var = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
+        else
+          mesh_var = (k_eff - problem%mean_stiffness) * delta
+        end if
         istate(is_separated) = istate(is_separated) + &
                                count(k_eff == 0.0_dp .and. problem%mean_stiffness > 0.0_dp)
         if (separation) istate(is_coast) = istate(is_coast) + count(flank == flank_coast)
       end if
-      q = q_new
-      v = v_new
+      q = qt + (beta * dt * dt) * a_new
+      v = vt + (gamma * dt) * a_new
       a = a_new
       rstate(rs_drive) = drive
       rstate(rs_load) = load
@@ -511,10 +576,25 @@ contains
       istate(is_restarts) = istate(is_restarts) + 1
       qt = q + dt * v + (dt * dt * (0.5_dp - beta)) * a
       vt = v + (dt * (1.0_dp - gamma)) * a
-      r0 = 0.0_dp  ! alpha_m = alpha_f = 0 (checked)
-      call band_multiply(n, kd, problem%damping_band, vt, -1.0_dp, r0)
-      call band_multiply(n, kd, problem%stiffness_band, qt, -1.0_dp, r0)
+      if (dense) then  ! alpha_m = alpha_f = 0 (checked)
+        fused(1:n) = vt
+        fused(n + 1:loads) = qt
+        if (.not. single) call state_product()
+      else
+        r0 = 0.0_dp
+        call band_multiply(n, kd, problem%damping_band, vt, -1.0_dp, r0)
+        call band_multiply(n, kd, problem%stiffness_band, qt, -1.0_dp, r0)
+      end if
     end subroutine restart_acceleration
+
+    !> a_0 = X_C w_c + X_K w_k (+ X_M alpha_m a_n) on the dense path (fused(1:2n) = [w_c; w_k]).
+    subroutine state_product()
+      a_base = 0.0_dp
+      call dense_multiply_transposed(loads, n, x_transposed, columns, 0_ik, fused(1:loads), 1.0_dp, &
+                                     a_base)
+      if (alpha_m /= 0.0_dp) call dense_multiply_transposed(n, n, x_transposed, columns, masses, &
+                                                            alpha_m * a, 1.0_dp, a_base)
+    end subroutine state_product
 
     !> Loads and lagged mesh loads at the state a step-acceleration x gives.  The
     !> table's stiffness is a function of the slow mesh-cycle position: it is
@@ -527,27 +607,31 @@ contains
       real(dp), intent(out) :: load_x     !< load torque [N m]
       real(dp), intent(out) :: g_x(:)     !< lagged mesh loads [N]
       integer(ik) :: mm, code
-      q_new = qt + (beta * dt * dt) * x
-      v_new = vt + (gamma * dt) * x
-      drive_x = law_torque(problem%laws, 1, t_new, member_speed(problem%members, 1, v_new), load_on)
-      load_x = law_torque(problem%laws, 2, t_new, member_speed(problem%members, 2, v_new), load_on)
-      g_x = 0.0_dp
-      if (.not. nonlinear) return
-      if (first) then
-        do mm = 1, n_mesh
-          delta_t(mm) = sparse_dot(problem%mesh, mm, qt)
-        end do
+      real(dp) :: speeds(2)
+      if (first) then  ! x = 0: the predictor itself
+        call sparse_products(problem%members, vt, speeds)
+      else
+        v_new = vt + (gamma * dt) * x
+        call sparse_products(problem%members, v_new, speeds)
+      end if
+      drive_x = law_torque(problem%laws, 1, t_new, speeds(1), load_on)
+      load_x = law_torque(problem%laws, 2, t_new, speeds(2), load_on)
+      if (.not. nonlinear) then
+        g_x = 0.0_dp
+        return
       end if
       ! delta = b.qt + beta dt^2 b.x: iterates differ by exact small increments, not by
       ! the rounding of b.q (q grows with the rotation, delta stays near 1e-8 m)
-      do mm = 1, n_mesh
-        delta(mm) = delta_t(mm) + (beta * dt * dt) * sparse_dot(problem%mesh, mm, x)
-      end do
+      if (first) then
+        call sparse_products(problem%mesh, qt, delta_t)
+        delta = delta_t
+      else
+        call sparse_products(problem%mesh, x, delta)
+        delta = delta_t + (beta * dt * dt) * delta
+      end if
       if (first) then
         if (problem%iparam(ip_varying) /= 0) then
-          do mm = 1, n_mesh
-            theta(mm) = sparse_dot(problem%angle, mm, q_new)
-          end do
+          call sparse_products(problem%angle, qt, theta)
           if (restart) then
             ! a switch within a millionth of a step of the step's end counts as on it:
             ! the step then sees the old stiffness and the next one restarts with the new
@@ -558,11 +642,12 @@ contains
           end if
           call evaluate_contact(table, theta, k_step, pairs, loaded, position, tooth, code)
           istate(is_contact) = istate(is_contact) + 1
-          k_coast = k_step
           if (code == ct_ok .and. coast_flank) then
             call evaluate_contact(coast_table, theta, k_coast, pairs, loaded, position, tooth, &
                                   code)
             istate(is_contact) = istate(is_contact) + 1
+          else if (separation) then
+            k_coast = k_step
           end if
           if (code /= ct_ok) then
             ierr = nm_err_contact
@@ -574,16 +659,19 @@ contains
           k_coast = k_step
         end if
       end if
+      ! the flank force law sets k_eff and offset with tooth separation; offset stays 0
+      ! without, and k_factored stays k-bar unless a refactor changed it
       k_eff = k_step
-      offset = 0.0_dp
       if (separation) then
         do mm = 1, n_mesh
           call flank_force_law(problem%contact_sign(mm), delta(mm), problem%backlash(mm), &
                                k_step(mm), k_coast(mm), k_eff(mm), offset(mm), flank(mm))
         end do
+        g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
+      else
+        g_x = (k_eff - problem%mean_stiffness) * delta
       end if
-      g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset &
-            - (k_factored - problem%mean_stiffness) * (delta - delta_t)
+      if (mode == mode_refactor) g_x = g_x - (k_factored - problem%mean_stiffness) * (delta - delta_t)
     end subroutine evaluate
 
     !> Refactor Khat with mesh stiffness k_new: the table's at the step start (the
@@ -596,6 +684,17 @@ contains
       refactors = refactors + 1
       istate(is_refactors) = istate(is_refactors) + 1
       k_factored = k_new
+      if (dense) then  ! the operator from X0 (Woodbury), and a_0 with it
+        call stiffness_update(n, n_mesh, problem%dense_operator, problem%dense_mesh_products, &
+                              k_factored - problem%mean_stiffness, scale_k, x_transposed, info)
+        if (info /= 0) then
+          ierr = nm_err_definite
+          bad = 0
+          return
+        end if
+        call state_product()
+        return
+      end if
       khat_factor = problem%khat_band
       do mm = 1, n_mesh
         do p = problem%mesh%ptr(mm) + 1, problem%mesh%ptr(mm + 1)

@@ -4,7 +4,7 @@
 !> module flank_contact: drive > 0, free 0, coast < 0).
 module newmark_probes
   use kinds, only: dp, ik
-  use newmark_support, only: sparse_rows, sparse_dot, probe_displacement, probe_velocity, &
+  use newmark_support, only: sparse_rows, probe_displacement, probe_velocity, &
                              probe_acceleration, probe_mesh_force, probe_mesh_stiffness, &
                              probe_drive_torque, probe_load_torque, rs_drive, rs_load, &
                              n_rstate, ip_separation, nm_err_size
@@ -41,14 +41,14 @@ contains
     do p = 1, int(size(probe_kind), ik)
       select case (probe_kind(p))
       case (probe_displacement)
-        samples(p, n_samples) = sparse_dot(probes, p, x)
+        samples(p, n_samples) = dot(probes, p, x)
       case (probe_velocity)
-        samples(p, n_samples) = sparse_dot(probes, p, xd)
+        samples(p, n_samples) = dot(probes, p, xd)
       case (probe_acceleration)
-        samples(p, n_samples) = sparse_dot(probes, p, xdd)
+        samples(p, n_samples) = dot(probes, p, xdd)
       case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast)
         m = probes%index(probes%ptr(p) + 1)
-        d = real(problem%contact_sign(m), dp) * sparse_dot(problem%mesh, m, x)
+        d = real(problem%contact_sign(m), dp) * dot(problem%mesh, m, x)
         if (problem%iparam(ip_separation) /= 0) then
           if (d < -problem%backlash(m)) then
             d = d + problem%backlash(m)
@@ -67,5 +67,20 @@ contains
         samples(p, n_samples) = 0.0_dp
       end select
     end do
+
+  contains
+
+    !> w . x for row r of a packed set (newmark_support's sparse_dot, here so that the
+    !> compiler inlines it: the probes are recorded every step).
+    pure real(dp) function dot(rows, r, vector)
+      type(sparse_rows), intent(in) :: rows  !< the packed set
+      integer(ik), intent(in) :: r           !< row (1-based) [-]
+      real(dp), intent(in) :: vector(:)      !< vector over the DOFs [DOF units]
+      integer(ik) :: k
+      dot = 0.0_dp
+      do k = rows%ptr(r) + 1, rows%ptr(r + 1)
+        dot = dot + rows%value(k) * vector(rows%index(k))
+      end do
+    end function dot
   end subroutine record_probes
 end module newmark_probes

@@ -12,6 +12,10 @@
 !>
 !> With tooth separation each mesh has a backlash (+inf: no coast flank) and a coast
 !> phase offset (module flank_contact).
+!>
+!> A problem on the dense path (iparam(ip_solver) = solver_dense, module newmark_dense)
+!> also keeps its dense operator at mean mesh stiffness and the meshes' deflections of
+!> its columns, formed once here.
 module newmark_problem
   use kinds, only: dp, ik
   use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
@@ -19,8 +23,10 @@ module newmark_problem
   use newmark_support, only: sparse_rows, torque_laws, effective_band, rows_fit, check_laws, &
                              n_rparam, n_iparam, rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, &
                              rp_tolerance, rp_deflection, ip_mode, ip_varying, ip_separation, &
-                             ip_restart, mode_linear, mode_refactor, nm_ok, nm_err_argument, &
-                             nm_err_handle, nm_err_full
+                             ip_restart, ip_solver, mode_linear, mode_refactor, solver_banded, &
+                             solver_dense, nm_ok, nm_err_argument, nm_err_definite, nm_err_handle, &
+                             nm_err_full
+  use newmark_dense, only: dense_columns, mean_operator
   implicit none
   private
 
@@ -48,6 +54,8 @@ module newmark_problem
     type(tooth_contact_table) :: table                   !< the meshes' table (time-varying stiffness)
     type(sparse_rows) :: members                         !< input (1) and output (2) member rotations [rad/rad]
     type(torque_laws) :: laws                            !< drive and load torque laws
+    real(dp), allocatable :: dense_operator(:, :)        !< (3n + n_mesh + 2, n) dense path: X0^T [SI]
+    real(dp), allocatable :: dense_mesh_products(:, :)   !< (n_mesh, 3n + n_mesh + 2) dense path: B X0 [SI]
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of
@@ -66,6 +74,7 @@ contains
     integer(ik), intent(out) :: ierr                !< error code (0 = ok)
     type(tooth_contact_table), pointer :: table
     type(transient_problem) :: kept
+    integer(ik) :: info
 
     handle = 0
     call check_problem(problem, bad, ierr)
@@ -88,6 +97,20 @@ contains
     allocate (kept%khat_band(kept%kd + 1, kept%n))
     call effective_band(kept%n, kept%kd, kept%mass_band, kept%damping_band, kept%stiffness_band, &
                         kept%rparam, kept%khat_band)
+    if (kept%iparam(ip_solver) == solver_dense) then
+      allocate (kept%dense_operator(dense_columns(kept%n, kept%n_mesh), kept%n))
+      allocate (kept%dense_mesh_products(kept%n_mesh, dense_columns(kept%n, kept%n_mesh)))
+      call mean_operator(kept%n, kept%kd, kept%n_mesh, kept%mass_band, kept%damping_band, &
+                         kept%stiffness_band, kept%khat_band, kept%members, kept%mesh, &
+                         1.0_dp / ((1.0_dp - kept%rparam(rp_alpha_f)) * kept%rparam(rp_beta) &
+                                   * kept%rparam(rp_dt) * kept%rparam(rp_dt)), &
+                         kept%dense_operator, kept%dense_mesh_products, info)
+      if (info /= 0) then  ! Khat is not positive definite
+        ierr = merge(nm_err_definite, nm_err_argument, info > 0)
+        bad = max(info, 0_ik)
+        return
+      end if
+    end if
     call keep_item(registry, kept, handle, ierr)
     if (ierr /= hd_ok) ierr = merge(nm_err_full, nm_err_handle, ierr == hd_err_full)
   end subroutine create_transient_problem
@@ -167,6 +190,10 @@ contains
       end if
       if (iparam(ip_mode) < mode_linear .or. iparam(ip_mode) > mode_refactor) then
         bad = 100 + ip_mode
+        return
+      end if
+      if (iparam(ip_solver) /= solver_banded .and. iparam(ip_solver) /= solver_dense) then
+        bad = 100 + ip_solver
         return
       end if
       ! a restart solves the equation of motion at a step instant: average acceleration

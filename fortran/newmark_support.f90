@@ -8,7 +8,7 @@ module newmark_support
 
   public :: sparse_rows, torque_laws
   public :: band_multiply, effective_band, torque_law, law_torque, check_laws
-  public :: sparse_dot, add_sparse, member_speed, add_member, rows_fit, first_bad
+  public :: sparse_dot, sparse_products, add_sparse, member_speed, add_member, rows_fit, first_bad
   public :: mode_linear, mode_predictor, mode_iterate, mode_refactor
   public :: law_none, law_constant, law_ramp, law_table, law_speed_power
   public :: probe_displacement, probe_velocity, probe_acceleration, probe_mesh_force, &
@@ -18,7 +18,8 @@ module newmark_support
             nm_err_handle, nm_err_full
   public :: rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, rp_tolerance, rp_refactor, &
             rp_deflection, rp_speed, rp_acceleration
-  public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart
+  public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart, ip_solver
+  public :: solver_banded, solver_dense
   public :: n_rparam, n_iparam, n_rstate, n_istate
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
             is_separated, is_contact, is_restarts, is_coast
@@ -29,6 +30,10 @@ module newmark_support
   integer(ik), parameter :: mode_predictor = 1  !< one evaluation at the predictor (the paper)
   integer(ik), parameter :: mode_iterate = 2    !< fixed-point iteration on one factor
   integer(ik), parameter :: mode_refactor = 3   !< iteration with refactoring
+
+  ! linear solvers of Khat a = rhs (iparam(ip_solver))
+  integer(ik), parameter :: solver_banded = 0   !< banded Cholesky factor, dpbtrs per solve
+  integer(ik), parameter :: solver_dense = 1    !< dense Khat^-1 products, dgemv (module newmark_dense)
 
   ! torque laws
   integer(ik), parameter :: law_none = 0         !< no torque
@@ -67,7 +72,8 @@ module newmark_support
   ! iparam layout (a run's decimation and averaging window are arguments of its advance)
   integer, parameter :: ip_mode = 1, ip_iterations = 2, ip_varying = 3, ip_separation = 4, &
                         ip_refactors = 5, &
-                        ip_restart = 6  ! restart a at mesh-stiffness jumps (0/1)
+                        ip_restart = 6, & ! restart a at mesh-stiffness jumps (0/1)
+                        ip_solver = 7     ! solver_banded or solver_dense
   ! istate layout
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
                         is_max_iterations = 5, is_window = 6, is_separated = 7, &
@@ -77,7 +83,7 @@ module newmark_support
   ! rstate layout
   integer, parameter :: rs_t_s = 1, rs_drive = 2, rs_load = 3
   ! sizes of the four arrays above
-  integer(ik), parameter :: n_rparam = 10, n_iparam = 6, n_istate = 10, n_rstate = 3
+  integer(ik), parameter :: n_rparam = 10, n_iparam = 7, n_istate = 10, n_rstate = 3
 
   real(dp), parameter :: pico = 1.0e-12_dp  !< deflection floor of the convergence scale [m]
 
@@ -195,6 +201,23 @@ contains
       sparse_dot = sparse_dot + rows%value(k) * x(rows%index(k))
     end do
   end function sparse_dot
+
+  !> y(r) = w_r . x for every row r of a packed set of sparse vectors (one call for all
+  !> rows: the time loop takes the meshes' deflections and angles this way).
+  pure subroutine sparse_products(rows, x, y)
+    type(sparse_rows), intent(in) :: rows  !< the packed set
+    real(dp), intent(in) :: x(:)           !< vector over the DOFs [DOF units]
+    real(dp), intent(out) :: y(:)          !< one product per row [row units]
+    integer(ik) :: r, k
+    real(dp) :: total
+    do r = 1, size(y, kind=ik)
+      total = 0.0_dp
+      do k = rows%ptr(r) + 1, rows%ptr(r + 1)
+        total = total + rows%value(k) * x(rows%index(k))
+      end do
+      y(r) = total
+    end do
+  end subroutine sparse_products
 
   !> y = y + s w for row row of a packed set of sparse vectors.
   pure subroutine add_sparse(rows, row, s, y)

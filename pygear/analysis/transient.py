@@ -448,6 +448,8 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         "sample_rate": 1.0 / (settings.decimation * settings.time_step),
         "steps": result.steps,
         "bandwidth": solver.bandwidth,
+        "linear_solver": solver.linear_solver,  # pygear.kernel.newmark_support
+        "linear_solver_reason": solver.linear_solver_reason,
         "input": problem.input_label,
         "output": problem.output_label,
         "drive": settings.drive.describe() if settings.drive else "none",

@@ -36,12 +36,14 @@ from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
     ISTATE_LAYOUT,
     LAW_CODES,
+    LINEAR_SOLVER_CODES,
     PROBE_CODES,
     GrowthDiagnostic,
     PhysicalInstabilityError,
     TransientError,
     TransientInterrupted,
     checkpoint_key,
+    choose_linear_solver,
     deferred_interrupt,
     growth_diagnostic,
     kernel_error,
@@ -222,6 +224,11 @@ class BandedNewmark:
         omega_0 [rad/s] for t_s (0: none).
     labels : sequence of str, optional
         DOF names for messages.
+    linear_solver : str
+        ``auto`` (by size and band width), ``dense_inverse`` or ``banded_cholesky``:
+        how the kernel solves Khat a = rhs (:func:`~pygear.kernel.newmark_support.
+        choose_linear_solver`); the environment variable ``PYGEAR_LINEAR_SOLVER``
+        overrides it.  ``linear_solver`` and ``linear_solver_reason`` hold the choice.
     """
 
     def __init__(
@@ -248,6 +255,7 @@ class BandedNewmark:
         deflection_limit: float = 1e-3,
         acceleration_limit: float = 1e15,
         labels: Sequence[str] | None = None,
+        linear_solver: str = "auto",
     ) -> None:
         mass, damping, stiffness = (
             np.asarray(x, dtype=np.float64) for x in (mass, damping, stiffness)
@@ -274,6 +282,9 @@ class BandedNewmark:
         self.position[self.order] = np.arange(n)
         rows, cols = np.nonzero(pattern[np.ix_(self.order, self.order)])
         self.bandwidth = int(np.max(rows - cols)) if n > 1 else 0
+        self.linear_solver, self.linear_solver_reason = choose_linear_solver(
+            n, self.bandwidth, linear_solver
+        )
         self.bands = {
             name: self._band(matrix)
             for name, matrix in (("mass", mass), ("damping", damping), ("stiffness", stiffness))
@@ -303,6 +314,7 @@ class BandedNewmark:
                 int(bool(nonlinear and self.meshes.separation)),
                 max_refactors,
                 int(bool(restart_at_jumps)),
+                LINEAR_SOLVER_CODES[self.linear_solver],
             ],
             dtype=np.int32,
         )

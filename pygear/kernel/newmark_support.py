@@ -4,6 +4,7 @@ handling and checkpoints of a run."""
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Sequence
@@ -19,6 +20,8 @@ __all__ = [
     "IPARAM_LAYOUT",
     "ISTATE_LAYOUT",
     "LAW_CODES",
+    "LINEAR_SOLVER_CODES",
+    "LINEAR_SOLVER_VARIABLE",
     "PROBE_CODES",
     "RPARAM_LAYOUT",
     "INTERRUPT_SIGNALS",
@@ -27,6 +30,7 @@ __all__ = [
     "TransientError",
     "TransientInterrupted",
     "checkpoint_key",
+    "choose_linear_solver",
     "deferred_interrupt",
     "growth_diagnostic",
     "kernel_error",
@@ -37,6 +41,9 @@ __all__ = [
 
 EQUIVALENT_LOAD_CODES = {"linear": 0, "predictor": 1, "iterate": 2, "refactor": 3}
 """Kernel codes of the equivalent-load modes (``linear``: no mesh terms at all)."""
+
+LINEAR_SOLVER_CODES = {"banded_cholesky": 0, "dense_inverse": 1}
+"""Kernel codes of the linear solvers of Khat a = rhs (``fortran/newmark_dense.f90``)."""
 
 LAW_CODES = {"none": 0, "constant": 1, "ramp": 2, "table": 3, "speed_power": 4}
 """Kernel codes of the torque laws."""
@@ -71,6 +78,7 @@ IPARAM_LAYOUT = (
     "separation",
     "max_refactors",
     "restart_at_jumps",
+    "linear_solver",
 )
 ISTATE_LAYOUT = (
     "step",
@@ -84,6 +92,55 @@ ISTATE_LAYOUT = (
     "restarts",
     "coast",
 )
+
+
+LINEAR_SOLVER_VARIABLE = "PYGEAR_LINEAR_SOLVER"
+"""Environment variable that forces the kernel's linear solver (``banded_cholesky`` or
+``dense_inverse``) over the automatic choice, e.g. to compare the two paths."""
+
+DENSE_DOFS_NARROW_BAND = 120
+"""Largest model the automatic choice puts on the dense path when its band is narrow
+(half-width 0) [DOFs]; see :func:`choose_linear_solver`."""
+
+DENSE_DOFS_PER_DIAGONAL = 4
+"""DOFs the dense path's limit grows by per band diagonal [DOFs]."""
+
+
+def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tuple[str, str]:
+    """The kernel's linear solver for Khat a = rhs and the reason, in words.
+
+    ``dense_inverse`` keeps s Khat^-1 times the step's matrices and load vectors and
+    spends one or two dense matrix-vector products per step, about 2 n^2 multiplications
+    (``fortran/newmark_dense.f90``); ``banded_cholesky`` multiplies by the band matrices
+    and solves with the banded Cholesky factor, about n (kd + 1) multiplications per
+    product or triangular solve but with more fixed cost per DOF.  On the 2-core AVX2
+    machine of ``benchmarks/bench_newmark.py`` the dense path was the faster below about
+    ``120 + 4 kd`` DOFs (chains of 50 to 300 DOFs, half-widths 2 to 80), and ``auto``
+    picks it there; the study case (18 DOFs) and the gearbox (50 DOFs) lie far inside.
+    ``requested`` (or the environment variable :data:`LINEAR_SOLVER_VARIABLE`, which
+    wins) forces either path.
+    """
+    forced = os.environ.get(LINEAR_SOLVER_VARIABLE, "").strip()
+    choice = forced or requested
+    if choice not in (*LINEAR_SOLVER_CODES, "auto"):
+        where = f"environment variable {LINEAR_SOLVER_VARIABLE}" if forced else "linear_solver"
+        raise ValueError(
+            f"{where} must be one of {', '.join((*LINEAR_SOLVER_CODES, 'auto'))} (got {choice!r})"
+        )
+    shape = f"{n} DOFs, band half-width {bandwidth}, band fill {_band_fill(n, bandwidth):.0%}"
+    if choice != "auto":
+        source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else f"linear_solver={choice!r}"
+        return choice, f"forced by {source} ({shape})"
+    limit = DENSE_DOFS_NARROW_BAND + DENSE_DOFS_PER_DIAGONAL * bandwidth
+    if n <= limit:
+        return "dense_inverse", f"automatic: {shape}; dense products cost less up to {limit} DOFs"
+    return "banded_cholesky", f"automatic: {shape}; band solves cost less above {limit} DOFs"
+
+
+def _band_fill(n: int, bandwidth: int) -> float:
+    """Share of the lower triangle (diagonal included) inside the band [-]."""
+    inside = n * (bandwidth + 1) - bandwidth * (bandwidth + 1) // 2
+    return inside / (n * (n + 1) / 2)
 
 
 def scheme_coefficients(integrator: str, spectral_radius: float | None = None) -> dict:
