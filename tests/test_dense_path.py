@@ -1,0 +1,194 @@
+"""The kernel's two linear solvers of the Newmark step (fortran/newmark_dense.f90).
+
+The dense path multiplies by s Khat^-1 [-C, -K0, w_in, w_out, B^T, -M], formed once per
+problem and updated by the Woodbury identity on refactors; the banded path multiplies
+by the band matrices and solves with the banded Cholesky factor.  Both compute the same
+step in exact arithmetic, so their runs may differ by round-off only: the bound is
+conftest.roundoff_tolerance with the mesh deflection's rigid-to-elastic ratio, never
+bit-identity.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import rigid_to_elastic_ratio, roundoff_tolerance
+
+from pygear import load_case
+from pygear.analysis.transient import run_transient
+from pygear.kernel.newmark import BandedNewmark, KernelProbe
+from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE, choose_linear_solver
+
+GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"
+PATHS = ("banded_cholesky", "dense_inverse")
+
+
+def _short(case, name: str, duration: float, **changes):
+    """Scene ``name`` of ``case`` cut to ``duration`` seconds (transient only)."""
+    scene = case.scene(name)
+    changes.setdefault("mean_window", min(scene.transient.mean_window, duration))
+    settings = dataclasses.replace(scene.transient, duration=duration, **changes)
+    return dataclasses.replace(scene, transient=settings, analyses=("transient",))
+
+
+def _both_paths(monkeypatch, case, scene) -> dict:
+    """The scene run once on each path, forced by the environment variable."""
+    runs = {}
+    for path in PATHS:
+        monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, path)
+        runs[path] = run_transient(case, scene)
+        assert runs[path].attrs["linear_solver"] == path
+        assert LINEAR_SOLVER_VARIABLE in runs[path].attrs["linear_solver_reason"]
+    return runs
+
+
+def _study_tolerance(study_case, run) -> float:
+    """Round-off of the study run-up: the sun-planet deflection against the sun's turn."""
+    stage = study_case.gearbox.stages[0]
+    turn = float(np.abs(run["planetary_sun_speed"]).max()) * math.pi / 30  # rad/s
+    angle = turn * run.attrs["duration"]
+    force = float(np.sqrt(np.mean(run["sun_planet1_mesh_force"].values ** 2)))
+    amplification = rigid_to_elastic_ratio(
+        stage.sun.base_radius, angle, force, stage.sun_mesh.stiffness
+    )
+    return roundoff_tolerance(run.attrs["steps"], amplification)
+
+
+def _assert_channels_agree(runs: dict, tolerance: float, round_off_only: dict) -> None:
+    """Every time channel of the two runs within tolerance of its scale; a channel that is
+    zero in exact arithmetic is measured against the channel ``round_off_only`` names."""
+    banded, dense = (runs[path] for path in PATHS)
+    channels = [name for name, values in banded.data_vars.items() if values.dims == ("time",)]
+    assert channels
+    for name in channels:
+        scale = float(np.abs(banded[round_off_only.get(name, name)].values).max())
+        difference = float(np.abs(dense[name].values - banded[name].values).max())
+        assert difference <= tolerance * max(scale, 1e-300), name
+
+
+def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch):
+    """The study run-up (18 DOFs, time-varying stiffness, predictor) on both paths over
+    0.2 s, past t_s (0.158 s, the load law switches on): every channel within
+    conftest.roundoff_tolerance (about 1e-5), where a wrong column of the dense operator
+    would move the speeds and mesh forces by percents."""
+    scene = _short(study_case, "runup", 0.2, mean_window=0.05)
+    runs = _both_paths(monkeypatch, study_case, scene)
+    tolerance = _study_tolerance(study_case, runs["banded_cholesky"])
+    assert tolerance < 1e-4  # tight enough to see a wrong term
+    # in-phase, equally spaced planets excite no ring translation: round-off on both
+    _assert_channels_agree(
+        runs, tolerance, {"planetary_ring_y_acceleration": "planetary_sun_theta_z_acceleration"}
+    )
+    banded, dense = (runs[path] for path in PATHS)
+    assert dense.t_s.item() == pytest.approx(banded.t_s.item(), rel=tolerance)
+    assert dense.attrs["solver_iterations"] == banded.attrs["solver_iterations"]
+
+
+def test_dense_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
+    """The gearbox run-up (50 DOFs, 15 meshes, the helical parallel pair) on both paths:
+    every channel within conftest.roundoff_tolerance; the parallel pair, the fastest,
+    turns furthest against its deflection and sets the amplification."""
+    gearbox = load_case(GEARBOX)
+    scene = _short(gearbox, "runup_tv", 0.05, mean_window=0.01)
+    runs = _both_paths(monkeypatch, gearbox, scene)
+    banded = runs["banded_cholesky"]
+    assert banded.attrs["dof_count"] == 50
+    pair = gearbox.gearbox.stages[2]
+    turned = float(np.abs(banded["parallel_input_gear_speed"]).max()) * math.pi / 30 * 0.05
+    force = float(np.sqrt(np.mean(banded["parallel_input_output_mesh_force"].values ** 2)))
+    tolerance = roundoff_tolerance(
+        banded.attrs["steps"],
+        rigid_to_elastic_ratio(pair.input_gear.base_radius, turned, force, pair.mesh.stiffness),
+    )
+    assert tolerance < 1e-5
+    _assert_channels_agree(runs, tolerance, {})
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {"equivalent_load": "refactor"},
+        {"integrator": "generalized-alpha", "equivalent_load": "refactor"},
+        {"equivalent_load": "iterate", "restart_at_jumps": True},
+    ],
+    ids=["refactor", "generalized-alpha-refactor", "iterate-restart"],
+)
+def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, changes):
+    """The iterated equivalent loads: the dense path's refactor is a Woodbury update of
+    its mean-stiffness operator, the banded path's a new factorization; the generalized-
+    alpha scheme adds the alpha_m and alpha_f terms, which the dense path carries in its
+    operator's mass block and load coefficients.  Each iteration stops once the lagged
+    loads move less than the tolerance (1e-8 of the largest mesh force), so the two may
+    also differ by that much per step, accumulating like round-off (a random walk over
+    the steps, safety 10): the bound is the larger of that and the round-off bound."""
+    scene = _short(study_case, "runup", 0.05, mean_window=0.02, **changes)
+    runs = _both_paths(monkeypatch, study_case, scene)
+    banded = runs["banded_cholesky"]
+    if changes["equivalent_load"] == "refactor":
+        assert banded.attrs["solver_refactors"] > 0  # the update is exercised
+    if changes.get("restart_at_jumps"):
+        assert banded.attrs["solver_restarts"] > 0
+    iteration = 10.0 * math.sqrt(banded.attrs["steps"]) * banded.attrs["tolerance"]
+    tolerance = max(_study_tolerance(study_case, banded), iteration)
+    _assert_channels_agree(
+        runs, tolerance, {"planetary_ring_y_acceleration": "planetary_sun_theta_z_acceleration"}
+    )
+
+
+def test_automatic_choice_is_dense_for_the_study_case_and_recorded(study_case, monkeypatch):
+    """Without a forced path the study run-up (18 DOFs, band half-width 13 of 17) runs on
+    the dense path, and the run's attributes say so and why."""
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    run = run_transient(study_case, _short(study_case, "runup", 0.005))
+    assert run.attrs["linear_solver"] == "dense_inverse"
+    reason = run.attrs["linear_solver_reason"]
+    assert reason.startswith("automatic") and "18 DOFs" in reason
+    assert "band half-width 13" in reason
+
+
+def test_automatic_choice_is_banded_for_a_long_narrow_band(monkeypatch):
+    """A chain of 400 masses (band half-width 1): the dense operator would hold 1200 x 400
+    numbers and cost 2 n^2 per step against a few n for the band, so the automatic
+    choice is the banded path; forcing either path is honoured."""
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    n = 400
+    stiffness = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    solver = BandedNewmark(np.eye(n), np.zeros((n, n)), stiffness, 1e-3)
+    assert solver.bandwidth == 1
+    assert solver.linear_solver == "banded_cholesky"
+    assert "400 DOFs" in solver.linear_solver_reason
+    forced = BandedNewmark(
+        np.eye(n), np.zeros((n, n)), stiffness, 1e-3, linear_solver="dense_inverse"
+    )
+    assert forced.linear_solver == "dense_inverse"
+    assert forced.linear_solver_reason.startswith("forced")
+
+
+def test_unknown_forced_solver_is_refused_naming_the_variable(monkeypatch):
+    """A misspelt path in the environment variable is an error naming it and the choices,
+    not a silent fall-back to the automatic choice."""
+    monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, "dense")
+    with pytest.raises(ValueError, match=rf"{LINEAR_SOLVER_VARIABLE} must be one of"):
+        choose_linear_solver(18, 13)
+
+
+def test_dense_path_matches_the_closed_form_oscillator(monkeypatch):
+    """One mass on a spring (omega^2 = k/m), started at x0 on the dense path: the average-
+    acceleration rule advances a phase of 2 atan(omega dt / 2) per step with unit
+    amplitude (Newmark's discrete cosine), so x_n = x0 cos(n phi) to the recurrence's
+    round-off (about n eps x0 = 1e-15 m; the bound, 1e-12 m, is a thousand times that)."""
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    mass, stiffness, time_step, x0, steps = 2.0, 8.0e4, 1.0e-3, 1.0e-3, 4000
+    solver = BandedNewmark(
+        np.array([[mass]]), np.zeros((1, 1)), np.array([[stiffness]]), time_step
+    )
+    assert solver.linear_solver == "dense_inverse"
+    probe = KernelProbe("x", "displacement", weights=np.ones(1))
+    result = solver.run(steps, [probe], q0=np.array([x0]))
+    phase = 2.0 * math.atan(math.sqrt(stiffness / mass) * time_step / 2.0)
+    expected = x0 * np.cos(phase * np.arange(steps + 1))
+    np.testing.assert_allclose(result.samples[0], expected, rtol=0, atol=1e-12)
