@@ -3,26 +3,70 @@
 Rigid multibody models of planetary and parallel gear stages (the improved model of
 Yang, Jiang & Han 2016, a kinetically consistent variant, and Lin & Parker 1999),
 assembled from Fortran element matrices, with modal analysis and sensitivities.
+
+The public names below load on first use (PEP 562), so ``import pygear`` and the
+``pygear`` command's parser do not load NumPy and the model until something asks.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
 # first: loads the kernel's OpenBLAS so that the extension finds it wherever installed
+# (ctypes and one dlopen, a few milliseconds; NumPy is not imported)
 from . import _blas  # noqa: F401  isort: skip
 from ._version import __version__ as __version__
 from .errors import CaseError
-from .model.case import Case, RayleighDamping, Scene, load_case
-from .model.components import (
-    Bearing,
-    Body,
-    Carrier,
-    Gear,
-    Mesh,
-    PlanetaryStage,
-    PlanetBearing,
-    ToothDefect,
-)
-from .model.gear_geometry import GearGeometry
-from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
-from .model.transient_settings import Probe, TorqueLaw, Transient
+
+if TYPE_CHECKING:
+    from .model.case import Case, RayleighDamping, Scene, load_case
+    from .model.components import (
+        Bearing,
+        Body,
+        Carrier,
+        Gear,
+        Mesh,
+        PlanetaryStage,
+        PlanetBearing,
+        ToothDefect,
+    )
+    from .model.gear_geometry import GearGeometry
+    from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+    from .model.transient_settings import Probe, TorqueLaw, Transient
+
+_SOURCES = {
+    ".model.case": ("Case", "RayleighDamping", "Scene", "load_case"),
+    ".model.components": (
+        "Bearing",
+        "Body",
+        "Carrier",
+        "Gear",
+        "Mesh",
+        "PlanetaryStage",
+        "PlanetBearing",
+        "ToothDefect",
+    ),
+    ".model.gear_geometry": ("GearGeometry",),
+    ".model.gearbox": ("Gearbox", "ParallelStage", "RigidLink", "ShaftInertia", "TorsionalSpring"),
+    ".model.transient_settings": ("Probe", "TorqueLaw", "Transient"),
+}
+_MODULE_OF = {name: module for module, names in _SOURCES.items() for name in names}
+"""The module each lazily loaded public name comes from."""
+
+
+def __getattr__(name: str) -> object:
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module 'pygear' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value  # the next access is a plain attribute
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_MODULE_OF))
+
 
 __all__ = [
     "Bearing",

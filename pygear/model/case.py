@@ -21,6 +21,7 @@ from pathlib import Path
 from ..errors import CaseError
 from .components import ToothDefect, is_finite_number, plain_numbers, require_non_negative
 from .gearbox import Gearbox
+from .names import DOF_SETS, FORMULATIONS
 from .transient_settings import Transient
 
 __all__ = [
@@ -40,12 +41,6 @@ __all__ = [
     "merged_defects",
     "validate_defects",
 ]
-
-FORMULATIONS = ("improved", "consistent", "lin-parker")
-"""Model formulations (docs/model.md §3.1 and §4)."""
-
-DOF_SETS = ("spatial", "planar", "torsional")
-"""DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
 
 ANALYSES = ("modal", "sensitivity", "transient", "signal")
 """Analyses a scene may ask for."""

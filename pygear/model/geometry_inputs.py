@@ -35,6 +35,7 @@ import math
 from ..errors import CaseError
 from . import gear_geometry as geo
 from .gear_geometry import GearGeometry, MeshGeometry
+from .names import LAWS
 from .values import is_finite_number, is_whole_number
 
 __all__ = [
@@ -52,9 +53,6 @@ __all__ = [
     "planetary_mesh_geometry",
     "typed_value",
 ]
-
-LAWS = ("parabola", "tabulated", "helical", "iso6336", "potential_energy")
-"""Single-pair stiffness laws a :class:`~pygear.model.components.Mesh` may name."""
 
 GEOMETRY_LAWS = ("iso6336", "potential_energy")
 """Laws that derive the mesh stiffness from the gear geometry (typing it is an error)."""
