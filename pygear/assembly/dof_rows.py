@@ -33,9 +33,9 @@ def rigid_rotation(model: Model) -> np.ndarray | None:
     The eigenvector of the lowest eigenvalue of (K0, M) when exactly one eigenvalue
     is zero (to 1e-8 of the largest); its sign is arbitrary, so callers use ratios.
     """
-    import scipy.linalg
+    from .eigen import generalized_eigh
 
-    values, vectors = scipy.linalg.eigh(model.stiffness, model.mass)
+    values, vectors = generalized_eigh(model.stiffness, model.mass)
     zero = np.abs(values) <= 1e-8 * np.abs(values).max()
     if zero.sum() != 1:
         return None
