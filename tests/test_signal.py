@@ -15,7 +15,7 @@ import scipy.signal
 import xarray as xr
 
 from pygear.analysis import signal as ps
-from pygear.analysis.peaks import find_peaks, peak_table_text
+from pygear.analysis.peaks import find_peaks, local_maxima, peak_table_text
 
 
 def make_signal(values: np.ndarray, sample_rate: float, start: float = 0.0) -> xr.DataArray:
@@ -399,3 +399,37 @@ def test_wisdom_round_trip() -> None:
     assert isinstance(wisdom, tuple) and all(isinstance(part, bytes) for part in wisdom)
     ps.import_wisdom(wisdom)
     assert ps.amplitude_spectrum(good_signal(0.125)).sizes["frequency"] == 2049
+
+
+# --------------------------------------------------------------------------- local maxima
+
+
+@pytest.mark.parametrize(
+    ("values", "expected"),
+    [
+        ([0, 2, 1], [1]),  # a sample above both neighbours
+        ([0, 3, 3, 0], [1]),  # a plateau of two: the left of the two middles
+        ([0, 3, 3, 3, 0], [2]),  # a plateau of three: its middle
+        ([3, 1, 2, 1, 0], [2]),  # the first sample never counts
+        ([0, 1, 2], []),  # nor the last
+        ([0, 3, 3], []),  # nor a plateau that reaches an end
+        ([0, 2, 2, 3, 0], [3]),  # a shoulder on the way up is no maximum
+        ([1, 1, 1, 1], []),
+        ([], []),
+        ([5.0], []),
+    ],
+)
+def test_local_maxima_by_hand(values, expected) -> None:
+    assert local_maxima(np.asarray(values, dtype=float)).tolist() == expected
+
+
+def test_local_maxima_agree_with_scipy_find_peaks() -> None:
+    """Series of small integers, full of plateaus and ties, against the unconditioned
+    ``scipy.signal.find_peaks`` (an implementation independent of pygear's)."""
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        values = rng.integers(0, 4, size=rng.integers(0, 30)).astype(float)
+        expected, _ = scipy.signal.find_peaks(values)
+        np.testing.assert_array_equal(local_maxima(values), expected)
+    noise = rng.standard_normal(50_000)
+    np.testing.assert_array_equal(local_maxima(noise), scipy.signal.find_peaks(noise)[0])

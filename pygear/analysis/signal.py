@@ -28,8 +28,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import pyfftw
 import xarray as xr
+
+from .fftw import pyfftw
 
 __all__ = [
     "DEFAULT_PLANNER_EFFORT",
