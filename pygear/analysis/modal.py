@@ -10,16 +10,24 @@ kinetic energy of each body's translation and rotation, never assumed.
 
 from __future__ import annotations
 
-import numpy as np
-import scipy.linalg
-import xarray as xr
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+import numpy as np
+
+from ..assembly.eigen import generalized_eigh
 from ..assembly.matrices import Model
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "ENERGY_GROUPS",
+    "ModalResult",
     "classify",
     "modal_analysis",
+    "modal_dataset",
+    "modal_results",
     "solve_eigenproblem",
 ]
 
@@ -50,13 +58,15 @@ def solve_eigenproblem(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """
     if model.gyroscopic is not None and np.any(model.gyroscopic):
         return _solve_gyroscopic(model)
-    eigenvalues, shapes = scipy.linalg.eigh(model.stiffness, model.mass)
+    eigenvalues, shapes = generalized_eigh(model.stiffness, model.mass)
     scale = max(abs(eigenvalues).max(), 1.0)
     eigenvalues = np.where(eigenvalues < ZERO_EIGENVALUE * scale, 0.0, eigenvalues)
     return np.sqrt(eigenvalues) / (2 * np.pi), shapes
 
 
 def _solve_gyroscopic(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    import scipy.linalg  # the non-symmetric problem only: a plain modal run never loads it
+
     n = model.size
     mass_inverse = np.linalg.inv(model.mass)
     state = np.block(
@@ -200,6 +210,66 @@ def multiplicities(frequencies: np.ndarray) -> np.ndarray:
     return result
 
 
+@dataclass(frozen=True)
+class ModalResult:
+    """A modal analysis in NumPy arrays: what :func:`modal_analysis` puts in its Dataset.
+
+    The ``pygear modal`` table needs nothing more, so it prints without loading xarray.
+    """
+
+    frequency: np.ndarray
+    """Natural frequencies [Hz], ``(mode,)``."""
+    shape: np.ndarray
+    """Mass-normalised mode shapes on the reduced DOFs, ``(dof, mode)``."""
+    mode_class: list[str]
+    """Lin & Parker class of every mode (:func:`classify`)."""
+    class_index: np.ndarray
+    """1-based order within the class, repeated frequencies counted once."""
+    multiplicity: np.ndarray
+    """Number of modes at each mode's frequency."""
+    stage_name: list[str]
+    """Stage holding most of each mode's kinetic energy."""
+    energy_share: np.ndarray
+    """Share of modal kinetic energy per :data:`ENERGY_GROUPS`, ``(mode, group)``."""
+    stage_energy: np.ndarray
+    """Share of modal kinetic energy per stage, ``(mode, stage)``."""
+    stages: list[str]
+    """Stage names, the columns of :attr:`stage_energy`."""
+    dof_labels: list[str]
+    """Reduced DOF labels, the rows of :attr:`shape`."""
+    attrs: dict
+    """:func:`model_attributes` of the model."""
+
+
+def modal_results(model: Model) -> ModalResult:
+    """Natural frequencies, shapes, classes, multiplicities and energy shares."""
+    frequencies, shapes = solve_eigenproblem(model)
+    table = energy_table(model, shapes)
+    dominant, classes, stage_shares = classify_by_stage(model, shapes)
+    stages = list(dict.fromkeys(p.body.split(".", 1)[0] for p in model.mass_parts))
+    bars = np.stack(
+        [
+            sum(v for (role, motion, _), v in table.items() if f"{role} {motion}" == group)
+            + np.zeros(frequencies.size)
+            for group in ENERGY_GROUPS
+        ],
+        axis=1,
+    )
+    return ModalResult(
+        frequency=frequencies,
+        shape=shapes,
+        mode_class=list(classes),
+        class_index=_class_indices(frequencies, [f"{d} {c}" for d, c in zip(dominant, classes)]),
+        multiplicity=multiplicities(frequencies),
+        stage_name=list(dominant),
+        energy_share=bars,
+        stage_energy=stage_shares,
+        stages=stages,
+        dof_labels=list(model.dof_labels),
+        attrs=model_attributes(model),
+    )
+
+
 def modal_analysis(model: Model) -> xr.Dataset:
     """Natural frequencies, shapes, classes, multiplicities and energy shares.
 
@@ -211,34 +281,33 @@ def modal_analysis(model: Model) -> xr.Dataset:
         ``shape(dof, mode)`` (mass-normalised, reduced DOFs) and
         ``energy_share(mode, energy_group)`` (the paper's four bars).
     """
-    frequencies, shapes = solve_eigenproblem(model)
-    table = energy_table(model, shapes)
-    dominant, classes, stage_shares = classify_by_stage(model, shapes)
-    stages = list(dict.fromkeys(p.body.split(".", 1)[0] for p in model.mass_parts))
-    repeated = multiplicities(frequencies)
-    bars = np.stack(
-        [
-            sum(v for (role, motion, _), v in table.items() if f"{role} {motion}" == group)
-            + np.zeros(frequencies.size)
-            for group in ENERGY_GROUPS
-        ],
-        axis=1,
-    )
-    class_index = _class_indices(frequencies, [f"{d} {c}" for d, c in zip(dominant, classes)])
+    return modal_dataset(modal_results(model))
+
+
+def modal_dataset(result: ModalResult) -> xr.Dataset:
+    """The Dataset of :func:`modal_analysis` from a :class:`ModalResult`."""
+    import xarray as xr
+
+    shapes = result.shape
+    frequencies = result.frequency
     dataset = xr.Dataset(
         {
             "frequency": ("mode", frequencies, {"units": "Hz", "long_name": "natural frequency"}),
             "mode_class": (
                 "mode",
-                np.array(classes, dtype=object),
+                np.array(result.mode_class, dtype=object),
                 {"long_name": "mode class (Lin & Parker families)"},
             ),
             "class_index": (
                 "mode",
-                class_index,
+                result.class_index,
                 {"long_name": "order within the class, repeated frequencies once"},
             ),
-            "multiplicity": ("mode", repeated, {"long_name": "number of modes at this frequency"}),
+            "multiplicity": (
+                "mode",
+                result.multiplicity,
+                {"long_name": "number of modes at this frequency"},
+            ),
             "shape": (
                 ("dof", "mode"),
                 shapes.real if not np.iscomplexobj(shapes) else abs(shapes),
@@ -246,17 +315,17 @@ def modal_analysis(model: Model) -> xr.Dataset:
             ),
             "energy_share": (
                 ("mode", "energy_group"),
-                bars,
+                result.energy_share,
                 {"units": "1", "long_name": "share of modal kinetic energy"},
             ),
             "stage_name": (
                 "mode",
-                np.array(dominant, dtype=object),
+                np.array(result.stage_name, dtype=object),
                 {"long_name": "stage holding most of the mode's kinetic energy"},
             ),
             "stage_energy": (
                 ("mode", "stage"),
-                stage_shares,
+                result.stage_energy,
                 {"units": "1", "long_name": "share of modal kinetic energy per stage"},
             ),
         },
@@ -264,17 +333,17 @@ def modal_analysis(model: Model) -> xr.Dataset:
             "mode": ("mode", np.arange(1, frequencies.size + 1), {"long_name": "mode number"}),
             "dof": (
                 "dof",
-                np.array(model.dof_labels, dtype=object),
+                np.array(result.dof_labels, dtype=object),
                 {"long_name": "reduced degree of freedom"},
             ),
-            "stage": ("stage", np.array(stages, dtype=object), {"long_name": "stage"}),
+            "stage": ("stage", np.array(result.stages, dtype=object), {"long_name": "stage"}),
             "energy_group": (
                 "energy_group",
                 np.array(ENERGY_GROUPS, dtype=object),
                 {"long_name": "body family and motion"},
             ),
         },
-        attrs=model_attributes(model),
+        attrs=dict(result.attrs),
     )
     return dataset
 
@@ -326,6 +395,8 @@ def stage_comparison(case, stage_name: str, formulation: str | None = None) -> x
         families.
     """
     import dataclasses
+
+    import xarray as xr
 
     from ..assembly.matrices import assemble
 

@@ -14,8 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import CaseError
-from ..model.case import FORMULATIONS
-from ..runs.json_output import json_text
+from ..model.names import FORMULATIONS
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -84,6 +83,7 @@ def _accuracy(args: argparse.Namespace) -> int:
     from ..analysis.accuracy import AccuracyStudy, accuracy_table_text, load_accuracy_study
     from ..model.case import load_case
     from ..runs.accuracy import accuracy_study
+    from ..runs.json_output import json_text
     from ..runs.progress import ProgressBar
 
     tolerance = parse_tolerance(args.tolerance)

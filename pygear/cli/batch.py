@@ -8,9 +8,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
-
-from ..model.case import FORMULATIONS, load_case
+from ..model.names import FORMULATIONS
 
 __all__ = ["HANDLERS", "add_parsers"]
 
@@ -25,6 +23,11 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     batch.add_argument("dirs", metavar="DIR", nargs="+", help="case directories or their parents")
     batch.add_argument("--out", type=Path, default=Path("out"), help="output root (default: out)")
     _add_dask_options(batch)
+    batch.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="write the NetCDF results only (figures are otherwise drawn after them)",
+    )
     batch.add_argument("--json", action="store_true", help="print the summary as JSON")
 
     sweep = commands.add_parser(
@@ -80,6 +83,7 @@ def _batch(args: argparse.Namespace) -> int:
         workers=args.workers,
         scheduler=args.scheduler,
         progress=not args.json,
+        figures=not args.no_figures,
     )
     if args.json:
         records = json.loads(table.to_json(orient="records"))
@@ -97,6 +101,9 @@ def _batch(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..model.case import load_case
     from ..runs.json_output import json_text
     from ..runs.sweep import parse_param, run_sweep
 

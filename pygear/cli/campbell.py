@@ -13,7 +13,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import CaseError
-from ..model.case import load_case
 
 __all__ = ["HANDLERS", "add_parsers", "campbell_summary", "parse_speeds"]
 
@@ -161,6 +160,8 @@ def _campbell(args: argparse.Namespace) -> int:
     harmonics = _harmonics(args.harmonics)
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise CaseError(f"--out {str(args.out)!r} is a file: campbell writes into a directory")
+    from ..model.case import load_case  # NumPy and the model load only when the command runs
+
     case = load_case(args.case)
     if args.scene is not None:
         scene = case.scene(args.scene)

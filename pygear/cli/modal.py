@@ -6,15 +6,18 @@ Handlers import the analysis they run when called, so ``pygear --help`` loads no
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ..model.case import DOF_SETS, FORMULATIONS, load_case
+from ..model.names import DOF_SETS, FORMULATIONS
 from ..runs.progress import ProgressBar
+
+if TYPE_CHECKING:
+    from ..analysis.modal import ModalResult
 
 __all__ = ["HANDLERS", "add_parsers", "modal_summary"]
 
@@ -73,54 +76,60 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     sensitivity.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def modal_summary(modal) -> dict:
-    """The numbers ``--json`` prints for a modal analysis."""
+def modal_summary(modal: ModalResult) -> dict:
+    """The numbers ``--json`` prints for a modal analysis
+    (:func:`pygear.analysis.modal.modal_results`)."""
     return {
         "case": modal.attrs["case"],
         "formulation": modal.attrs["formulation"],
         "dof_set": modal.attrs["dof_set"],
-        "frequencies_hz": [float(f) for f in modal.frequency.values],
-        "mode_class": [str(c) for c in modal.mode_class.values],
-        "class_index": [int(i) for i in modal.class_index.values],
-        "multiplicity": [int(m) for m in modal.multiplicity.values],
-        "stage": [str(st) for st in modal.stage_name.values],
+        "frequencies_hz": [float(f) for f in modal.frequency],
+        "mode_class": [str(c) for c in modal.mode_class],
+        "class_index": [int(i) for i in modal.class_index],
+        "multiplicity": [int(m) for m in modal.multiplicity],
+        "stage": [str(st) for st in modal.stage_name],
     }
 
 
-def _print_modal_table(modal) -> None:
+def _print_modal_table(modal: ModalResult) -> None:
     print(
         f"{modal.attrs['case']}: {modal.attrs['formulation']} formulation, "
         f"{modal.attrs['dof_set']} DOF set ({modal.attrs['dof_set_reason']}), "
-        f"{modal.sizes['mode']} modes"
+        f"{modal.frequency.size} modes"
     )
-    several = modal.sizes["stage"] > 1
+    several = len(modal.stages) > 1
     stage_header = f"{'stage':<12} " if several else ""
     print(f"{'mode':>4}  {'frequency [Hz]':>14}  {stage_header}{'class':<22} {'x':>2}")
     for m, f, st, c, i, r in zip(
-        modal.mode.values,
-        modal.frequency.values,
-        modal.stage_name.values,
-        modal.mode_class.values,
-        modal.class_index.values,
-        modal.multiplicity.values,
+        range(1, modal.frequency.size + 1),
+        modal.frequency,
+        modal.stage_name,
+        modal.mode_class,
+        modal.class_index,
+        modal.multiplicity,
     ):
         stage = f"{st:<12} " if several else ""
         print(f"{m:>4}  {f:>14.1f}  {stage}{c + ' ' + str(i):<22} {r:>2}")
 
 
 def _modal(args: argparse.Namespace) -> int:
-    from ..analysis.modal import modal_analysis
+    # the table needs NumPy alone: xarray, NetCDF and the figures load only with --out
+    from ..analysis.modal import modal_results
     from ..assembly.matrices import assemble
+    from ..model.case import load_case
     from ..runs.json_output import json_text
-    from ..runs.outputs import write_modal_outputs
 
     case = load_case(args.case)
     started = time.perf_counter()
     model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
-    modal = modal_analysis(model)
+    modal = modal_results(model)
     elapsed = time.perf_counter() - started
     if args.out:
-        write_modal_outputs(case, None, model, modal, args.out, f"modal_{model.formulation}")
+        from ..analysis.modal import modal_dataset
+        from ..runs.outputs import write_modal_outputs
+
+        dataset = modal_dataset(modal)
+        write_modal_outputs(case, None, model, dataset, args.out, f"modal_{model.formulation}")
     summary = {**modal_summary(modal), "wall_s": elapsed}
     if args.compare_stage:
         from ..analysis.modal import stage_comparison
@@ -146,13 +155,16 @@ def _modal(args: argparse.Namespace) -> int:
     return 0
 
 
-def _finite_list(values: np.ndarray) -> list[float]:
-    return [float(v) for v in values if np.isfinite(v)]
+def _finite_list(values) -> list[float]:
+    return [float(v) for v in values if math.isfinite(v)]
 
 
 def _matrices(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..assembly.matrices import assemble
     from ..io import check_suffix, write_npz
+    from ..model.case import load_case
 
     check_suffix("--out", args.out, ".npz", "a NumPy archive of M, K, C and the DOF labels")
     case = load_case(args.case)
@@ -174,8 +186,11 @@ def _matrices(args: argparse.Namespace) -> int:
 
 
 def _sensitivity(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..analysis.sensitivity import frequency_sweep, parse_values
     from ..io import write_netcdf
+    from ..model.case import load_case
     from ..plots.modal import plot_frequency_sweep
     from ..runs.json_output import json_text
 

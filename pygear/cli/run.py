@@ -8,18 +8,20 @@ loads none of them.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..errors import CaseError
-from ..model.case import FORMULATIONS, Case, Scene, load_case
-from ..model.geometry_inputs import LAWS
+from ..model.names import FORMULATIONS, LAWS
 from ..runs.progress import ProgressBar
 from .modal import modal_summary
+
+if TYPE_CHECKING:
+    from ..model.case import Case, Scene
 
 __all__ = ["HANDLERS", "add_parsers"]
 
@@ -32,6 +34,11 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     run.add_argument("--formulation", choices=FORMULATIONS, help="override every scene's")
     run.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
     run.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+    run.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="write the NetCDF results only (figures are otherwise drawn after them)",
+    )
     run.add_argument(
         "--checkpoint-every",
         type=float,
@@ -159,11 +166,11 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
         check_suffix(
             "--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)"
         )
-    if not np.isfinite(args.speed) or args.speed == 0:
+    if not math.isfinite(args.speed) or args.speed == 0:
         raise CaseError(
             f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"
         )
-    if args.duration is not None and not (np.isfinite(args.duration) and args.duration > 0):
+    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
         raise CaseError(f"--duration must be a positive number of seconds (got {args.duration})")
     dataset, summary = mesh_stiffness_report(
         args.case, args.speed, args.duration, args.out, scene=args.scene, law=args.law
@@ -187,13 +194,17 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..analysis.modal import modal_analysis
+    from ..analysis.modal import modal_dataset, modal_results
     from ..analysis.transient import runup_table_text, transient_summary
     from ..assembly.matrices import assemble
     from ..io import write_netcdf
+    from ..model.case import load_case
     from ..runs.json_output import json_text
     from ..runs.outputs import write_modal_outputs, write_run_signals
     from ..runs.scene_checks import check_scenes
+    from ..runs.transient_outputs import write_speed_figure
+
+    figures = not args.no_figures
 
     case = base_case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
@@ -208,8 +219,10 @@ def _run(args: argparse.Namespace) -> int:
         model = assemble(case, scene, formulation=args.formulation)
         entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
         if "modal" in scene.analyses:
-            modal = modal_analysis(model)
-            files = write_modal_outputs(case, scene, model, modal, out, scene.name)
+            modal = modal_results(model)
+            files = write_modal_outputs(
+                case, scene, model, modal_dataset(modal), out, scene.name, figures=figures
+            )
             entry.update(modal_summary(modal))
             entry["files"] += [str(p) for p in files]
         if "sensitivity" in scene.analyses:
@@ -233,8 +246,11 @@ def _run(args: argparse.Namespace) -> int:
             entry.update(transient_summary(dataset))
             entry["files"] += [str(p) for p in files]
             if "signal" in scene.analyses:
-                written = write_run_signals(case, model, dataset, out, scene.name)
+                written = write_run_signals(case, model, dataset, out, scene.name, figures=figures)
                 entry["files"] += [str(p) for p in written]
+            speeds = out / f"{scene.name}_speeds.png"
+            if figures and write_speed_figure(dataset, speeds) is not None:
+                entry["files"].append(str(speeds))  # drawn once every file of the scene is
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
         if not args.json:
@@ -244,7 +260,7 @@ def _run(args: argparse.Namespace) -> int:
             )
             for path in entry["files"]:
                 print(f"  wrote {path}")
-    if len(transients) > 1:
+    if len(transients) > 1 and figures:
         summary["files"] = [str(_compare_transients(transients, out))]
     summary["wall_s"] = time.perf_counter() - run_started
     if args.json:
@@ -268,6 +284,7 @@ def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Na
         scene,
         out,
         progress=progress,
+        figure=False,  # the speeds are drawn after the scene's spectra files are written
         model=model,
         # resuming keeps the file current: saved again on a signal, removed when done
         checkpoint=checkpoint if every is not None or args.resume else None,

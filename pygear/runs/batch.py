@@ -55,12 +55,12 @@ SUMMARY_NAME = "batch_summary.csv"
 """File name of the summary table in the batch's output directory."""
 
 
-def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
     from .outputs import write_modal_outputs  # the code path of `pygear run`
 
     modal = modal_analysis(model)
     with task_files():
-        files = write_modal_outputs(case, scene, model, modal, out, scene.name)
+        files = write_modal_outputs(case, scene, model, modal, out, scene.name, figures=figures)
     frequencies = modal.frequency.values
     positive = frequencies[frequencies > 0]
     return {
@@ -69,7 +69,7 @@ def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
     }
 
 
-def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
     from ..analysis.sensitivity import frequency_sensitivity
 
     sensitivity = frequency_sensitivity(model)
@@ -83,31 +83,37 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path) -> d
     return {"files": [str(path)]}
 
 
-def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path) -> dict:
-    """The scene's transient as `pygear run` writes it, and its signal analysis."""
+def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
+    """The scene's transient as `pygear run` writes it, and its signal analysis: the
+    NetCDF files first, the figures after them."""
     from ..analysis.transient import transient_summary
     from .outputs import write_run_signals
-    from .transient_outputs import write_transient
+    from .transient_outputs import write_speed_figure, write_transient
 
     with task_files():
-        dataset, files = write_transient(case, scene, out, model=model)
+        dataset, files = write_transient(case, scene, out, model=model, figure=False)
         if "signal" in scene.analyses:
-            files = [*files, *write_run_signals(case, model, dataset, out, scene.name)]
+            signals = write_run_signals(case, model, dataset, out, scene.name, figures=figures)
+            files = [*files, *signals]
+        if figures:
+            speeds = write_speed_figure(dataset, out / f"{scene.name}_speeds.png")
+            files += [speeds] if speeds is not None else []
     summary = transient_summary(dataset)
     return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
 
 
-def _after_transient(case: Case, scene: Scene, model: Model, out: Path) -> dict:
+def _after_transient(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
     return {}  # 'signal' runs inside the transient's task, on its dataset
 
 
-SCENE_ANALYSES: dict[str, Callable[[Case, Scene, Model, Path], dict]] = {
+SCENE_ANALYSES: dict[str, Callable[[Case, Scene, Model, Path, bool], dict]] = {
     "modal": _modal_outputs,
     "sensitivity": _sensitivity_outputs,
     "transient": _transient_outputs,
     "signal": _after_transient,
 }
-"""What a batch writes for each analysis a scene may ask for."""
+"""What a batch writes for each analysis a scene may ask for (the last argument:
+whether to draw figures)."""
 
 
 def find_case_dirs(paths: Iterable[str | os.PathLike]) -> list[Path]:
@@ -149,8 +155,9 @@ def find_case_dirs(paths: Iterable[str | os.PathLike]) -> list[Path]:
     return unique
 
 
-def run_scene(case_dir: str, scene_name: str, out_dir: str) -> dict:
-    """Run one scene of one case and write its outputs; never raises (a Dask task).
+def run_scene(case_dir: str, scene_name: str, out_dir: str, figures: bool = True) -> dict:
+    """Run one scene of one case and write its outputs (figures too, with ``figures``);
+    never raises (a Dask task).
 
     Returns
     -------
@@ -170,7 +177,7 @@ def run_scene(case_dir: str, scene_name: str, out_dir: str) -> dict:
         unsupported = [a for a in scene.analyses if a not in SCENE_ANALYSES]
         for analysis in scene.analyses:
             if analysis in SCENE_ANALYSES:
-                result = SCENE_ANALYSES[analysis](case, scene, model, Path(out_dir))
+                result = SCENE_ANALYSES[analysis](case, scene, model, Path(out_dir), figures)
                 row["files"] = row["files"] + result.pop("files", [])
                 row.update(result)
         if unsupported:
@@ -195,6 +202,7 @@ def run_batch(
     workers: int,
     scheduler: str | None = None,
     progress: bool = True,
+    figures: bool = True,
 ) -> pd.DataFrame:
     """Run every scene of every case found under ``paths`` in parallel on Dask.
 
@@ -210,6 +218,8 @@ def run_batch(
         Address of a running Dask scheduler.
     progress : bool
         Draw a progress bar on stderr.
+    figures : bool
+        Draw each scene's figures (after its NetCDF files); False writes NetCDF only.
 
     Returns
     -------
@@ -243,7 +253,7 @@ def run_batch(
         with dask_client(workers=workers, scheduler=scheduler) as client:
             from distributed import as_completed
 
-            futures = client.map(run_scene, *zip(*tasks), pure=False)
+            futures = client.map(run_scene, *zip(*tasks), figures=figures, pure=False)
             owner = {future.key: task for future, task in zip(futures, tasks)}
             for done, future in enumerate(as_completed(futures, loop=client.loop), start=1):
                 try:

@@ -29,11 +29,16 @@ __all__ = [
 
 
 def write_modal_outputs(
-    case: Case, scene: Scene | None, model, modal, directory: Path, stem: str
+    case: Case,
+    scene: Scene | None,
+    model,
+    modal,
+    directory: Path,
+    stem: str,
+    *,
+    figures: bool = True,
 ) -> list[Path]:
-    """Write ``<stem>.nc`` and the modal figures into ``directory``."""
-    from ..plots.modal import plot_modal_energy, plot_mode_shape
-
+    """Write ``<stem>.nc`` and then, with ``figures``, the modal figures into ``directory``."""
     directory.mkdir(parents=True, exist_ok=True)
     written = [
         write_netcdf(
@@ -43,6 +48,10 @@ def write_modal_outputs(
             title=f"Modal analysis of {case.name} ({model.formulation})",
         )
     ]
+    if not figures:
+        return written
+    from ..plots.modal import plot_modal_energy, plot_mode_shape
+
     energy = directory / f"{stem}_energy.png"
     plot_modal_energy(modal, energy)
     written.append(energy)
@@ -202,10 +211,11 @@ def write_signal_analysis(
     after=1.0,
     natural=None,
     mesh_frequency=None,
+    figure=True,
 ):
-    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and ``.png``."""
+    """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and then, with
+    ``figure``, ``<stem>_<channel>.png``."""
     from ..analysis.analyze import analyze_channel
-    from ..plots.signal import plot_run_analysis
 
     analysis = analyze_channel(
         run,
@@ -230,9 +240,17 @@ def write_signal_analysis(
     path = write_netcdf(
         spectra, base.with_name(f"{base.name}.nc"), title=f"Spectra of {analysis.channel}"
     )
-    figure = base.with_name(f"{base.name}.png")
-    plot_run_analysis(analysis, figure)
-    return analysis, [path, figure]
+    if not figure:
+        return analysis, [path]
+    return analysis, [path, _signal_figure(analysis, base)]
+
+
+def _signal_figure(analysis, base: Path) -> Path:
+    from ..plots.signal import plot_run_analysis  # Matplotlib loads only for a figure
+
+    target = base.with_name(f"{base.name}.png")
+    plot_run_analysis(analysis, target)
+    return target
 
 
 def acceleration_channels(dataset) -> list[str]:
@@ -243,22 +261,31 @@ def acceleration_channels(dataset) -> list[str]:
     ]
 
 
-def write_run_signals(case: Case, model, dataset, directory: Path, stem: str) -> list[Path]:
-    """Signal analysis of every acceleration channel of a run, after the start-up."""
+def write_run_signals(
+    case: Case, model, dataset, directory: Path, stem: str, *, figures: bool = True
+) -> list[Path]:
+    """Signal analysis of every acceleration channel of a run, after the start-up:
+    every channel's ``.nc`` first, then (with ``figures``) every channel's figure."""
     from ..model.case import SIGNAL_AFTER
 
     if "natural_frequency" not in dataset:  # a run not from write_transient
         dataset = dataset.merge(analysis_references(case, model, dataset))
     natural, mesh = stored_references(dataset)
     files: list[Path] = []
+    analyses = []
     for channel in acceleration_channels(dataset):
-        _, written = write_signal_analysis(
+        analysis, written = write_signal_analysis(
             dataset,
             directory / stem,
             channel=channel,
             after=SIGNAL_AFTER,
             natural=natural,
             mesh_frequency=mesh,
+            figure=False,
         )
         files += written
+        analyses.append(analysis)
+    if figures:
+        for analysis in analyses:
+            files.append(_signal_figure(analysis, directory / f"{stem}_{analysis.channel}"))
     return files

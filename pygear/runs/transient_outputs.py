@@ -16,10 +16,9 @@ from ..assembly.matrices import Model
 from ..io import WriteInterrupted, atomic_path, signals_interrupt, write_netcdf
 from ..kernel.newmark import TransientInterrupted
 from ..model.case import Case, Scene
-from ..plots.transient import plot_speeds
 from .outputs import analysis_references
 
-__all__ = ["write_transient"]
+__all__ = ["write_speed_figure", "write_transient"]
 
 
 def write_transient(
@@ -77,10 +76,9 @@ def write_transient(
                 input_hash=case.input_hash(),
             )
             written = [path]
-            if figure and any(
-                v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()
-            ):
-                written.append(_write_speed_figure(dataset, directory / f"{scene.name}_speeds.png"))
+            if figure:
+                speeds = write_speed_figure(dataset, directory / f"{scene.name}_speeds.png")
+                written += [speeds] if speeds is not None else []
         except WriteInterrupted as interrupt:
             raise TransientInterrupted(
                 _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
@@ -90,7 +88,13 @@ def write_transient(
     return dataset, written
 
 
-def _write_speed_figure(dataset: xr.Dataset, target: Path) -> Path:
+def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
+    """Draw a run's speeds into ``target`` (PNG, atomically); None, and no file, when
+    the run has no speed channel."""
+    if not any(v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()):
+        return None
+    from ..plots.transient import plot_speeds  # Matplotlib loads only for a figure
+
     with atomic_path(target) as temporary:
         plot_speeds([dataset], temporary, format="png")
     return target
