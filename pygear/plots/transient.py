@@ -1,4 +1,8 @@
-"""Figure of a run-up's speeds, like the seed's Figure 9 (plotting only; nothing computes)."""
+"""Figure of a run-up's speeds, like the seed's Figure 9 (plotting only; nothing computes).
+
+Each speed is cut to the extremes of each pixel column (:mod:`pygear.plots.decimation`)
+and the panels sit at fixed margins, so the figure costs the same for any record length.
+"""
 
 from __future__ import annotations
 
@@ -12,7 +16,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from .decimation import plot_envelope  # noqa: E402
+
 __all__ = ["plot_speeds"]
+
+DPI = 120
+"""Resolution the figure is drawn and saved at [pixels per inch]."""
+
+MARGINS_INCH = {"left": 0.95, "right": 0.15, "bottom": 0.5, "top": 0.3}
+"""Fixed margins [in]: two-line y labels with tick labels, the time axis, the titles."""
 
 
 def _speed_channels(dataset: xr.Dataset) -> list[str]:
@@ -48,12 +60,17 @@ def plot_speeds(
         rows += [name for name in _speed_channels(dataset) if name not in rows]
     if not rows:
         raise ValueError("no speed channels to plot (add Probe('speed', body) to the scene)")
+    width, height = 4.5 * len(datasets), 2.2 * len(rows)
     figure, axes = plt.subplots(
-        len(rows),
-        len(datasets),
-        figsize=(4.5 * len(datasets), 2.2 * len(rows)),
-        sharex=True,
-        squeeze=False,
+        len(rows), len(datasets), figsize=(width, height), dpi=DPI, sharex=True, squeeze=False
+    )
+    figure.subplots_adjust(
+        left=MARGINS_INCH["left"] / width,
+        right=1 - MARGINS_INCH["right"] / width,
+        bottom=MARGINS_INCH["bottom"] / height,
+        top=1 - MARGINS_INCH["top"] / height,
+        wspace=0.35,
+        hspace=0.25,
     )
     for column, dataset in enumerate(datasets):
         shown = dataset.sel(time=slice(0.0, until))
@@ -61,7 +78,9 @@ def plot_speeds(
         for row, name in enumerate(rows):
             axis = axes[row, column]
             if name in shown:
-                axis.plot(shown.time, shown[name], lw=0.8)
+                time = shown.time.values
+                axis.set_xlim(time[0], time[-1])
+                plot_envelope(axis, time, shown[name].values, linewidth=0.8)
                 if np.isfinite(t_s):
                     axis.axvline(t_s, color="0.6", ls=":", lw=0.8)
                 axis.set_ylabel(f"{shown[name].attrs.get('target', name)}\n[rpm]", fontsize=8)
@@ -73,6 +92,5 @@ def plot_speeds(
                 )
             axis.grid(alpha=0.3)
         axes[-1, column].set_xlabel("time [s]")
-    figure.tight_layout()
-    figure.savefig(path, dpi=120, format=format)
+    figure.savefig(path, dpi=DPI, format=format)
     plt.close(figure)
