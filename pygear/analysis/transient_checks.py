@@ -29,6 +29,7 @@ __all__ = [
     "check_transient_memory",
     "mesh_stiffness_parameter",
     "peak_torque",
+    "signal_footprint",
     "transient_footprint",
     "with_soft_mesh_cause",
 ]
@@ -132,12 +133,29 @@ def transient_footprint(settings: Transient, channels: int) -> tuple[float, floa
 
     The kernel records ``channels`` float64 channels at every output sample; the dataset
     built from the record and written to NetCDF holds them again (memory: twice), and
-    the file holds them once with the time coordinate.
+    the file holds them once with the time coordinate.  The file's channels are
+    compressed (:data:`pygear.io.COMPRESSION_LEVEL`), by a ratio no one can know before
+    the run (0.67 on the study case's run-up, nearly 1 for noise), so the disk figure
+    is their uncompressed size: an upper bound.
     """
     samples = settings.steps // settings.decimation + 1
     record = max(channels, 1) * samples * FLOAT_BYTES
     what = f"{max(channels, 1)} channels x {samples} samples x {FLOAT_BYTES} bytes"
     return 2.0 * record, float(record + samples * FLOAT_BYTES), what
+
+
+def signal_footprint(settings: Transient) -> tuple[float, str]:
+    """Disk of a run's signal analysis files [bytes], an upper bound, and how it is counted.
+
+    The ``signal`` analysis writes one file per acceleration probe: the frequency
+    coordinate and three spectra (amplitude, envelope, DRA) of at most
+    ``samples // 2 + 1`` lines each (the start-up it skips makes them shorter), float64
+    and counted uncompressed.
+    """
+    channels = sum(probe.quantity == "acceleration" for probe in settings.probes)
+    lines = (settings.steps // settings.decimation + 1) // 2 + 1
+    what = f"{channels} spectra files x 4 x {lines} lines x {FLOAT_BYTES} bytes"
+    return float(channels * 4 * lines * FLOAT_BYTES), what
 
 
 FOOTPRINT_HINT = "shorten duration, lower sample_rate or keep fewer probes"
@@ -155,4 +173,4 @@ def check_transient_disk(
 ) -> None:
     """Refuse a run whose result file does not fit on the disk of ``directory``."""
     _, disk, what = transient_footprint(settings, channels)
-    require_disk(f"{path}.duration", disk, directory, what, FOOTPRINT_HINT)
+    require_disk(f"{path}.duration", disk, directory, f"{what}, uncompressed", FOOTPRINT_HINT)

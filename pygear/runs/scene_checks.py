@@ -7,7 +7,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..analysis.transient import transient_problem
-from ..analysis.transient_checks import FOOTPRINT_HINT, transient_footprint
+from ..analysis.transient_checks import FOOTPRINT_HINT, signal_footprint, transient_footprint
 from ..assembly.matrices import assemble
 from ..model.case import Case, Scene
 from ..resources import require_disk
@@ -26,7 +26,8 @@ def check_scenes(
 
     Each scene's model is assembled and each transient set up (probe targets, members,
     contact signs, static deflections, memory); the result files of all transient
-    scenes together must fit on the disk of ``out``.
+    scenes together, with their signal analyses, must fit on the disk of ``out`` (counted
+    uncompressed: an upper bound of the compressed files).
 
     Raises
     ------
@@ -42,7 +43,11 @@ def check_scenes(
         problem = transient_problem(scene_case, scene, formulation=formulation, model=model)
         _, disk, what = transient_footprint(problem.settings, len(problem.probes))
         files += disk
-        counted.append(f"{scene.name}: {what}")
+        if "signal" in scene.analyses:
+            spectra, spectra_what = signal_footprint(problem.settings)
+            files += spectra
+            what = f"{what} and {spectra_what}"
+        counted.append(f"{scene.name}: {what}, uncompressed")
     if out is not None and files:
         hint = FOOTPRINT_HINT
         if len(counted) > 1:
