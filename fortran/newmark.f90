@@ -247,7 +247,7 @@ contains
     real(dp), intent(inout) :: velocity_sum(problem%n)                !< sum of v over the window [m/s, rad/s]
     real(dp), intent(inout) :: rstate(n_rstate)                       !< t_s [s], drive, load torque [N m]
     integer(ik), intent(inout) :: istate(n_istate)                    !< counters (see layout) [-]
-    real(dp), intent(inout) :: samples(:, :)                          !< (probes, columns) channels [channel units]
+    real(dp), intent(inout), contiguous :: samples(:, :)              !< (probes, columns) channels [channel units]
     integer(ik), intent(out) :: n_samples                             !< columns written [-]
     integer(ik), intent(out) :: bad                                   !< offending DOF, mesh or index [-]
     integer(ik), intent(out) :: ierr                                  !< error code (0 = ok)
@@ -318,6 +318,7 @@ contains
     ! one solve per step: on the dense path one product with X's state and load blocks
     single = mode == mode_linear .or. mode == mode_predictor
     allocate (fused(masses), a_base(n), load_old(n_mesh + 2))
+    load_old = 0.0_dp
     if (dense) then  ! X^T at this run's k_factored (module newmark_dense)
       allocate (x_transposed(columns, n))
       if (any(k_factored /= problem%mean_stiffness)) then
@@ -366,10 +367,11 @@ contains
           fused(n + 1:loads) = (1.0_dp - alpha_f) * qt + alpha_f * q
         end if
         if (.not. single) call state_product()
-        load_old = 0.0_dp
-        load_old(1) = alpha_f * rstate(rs_drive)
-        load_old(2) = -alpha_f * rstate(rs_load)
-        if (nonlinear) load_old(3:) = -alpha_f * mesh_var
+        if (alpha_f /= 0.0_dp) then  ! else load_old stays 0
+          load_old(1) = alpha_f * rstate(rs_drive)
+          load_old(2) = -alpha_f * rstate(rs_load)
+          if (nonlinear) load_old(3:) = -alpha_f * mesh_var
+        end if
       else
         wc = (1.0_dp - alpha_f) * vt + alpha_f * v
         wk = (1.0_dp - alpha_f) * qt + alpha_f * q
@@ -389,15 +391,13 @@ contains
       end if
       if (omega_0 > 0.0_dp .and. .not. load_on) speed_old = member_speed(problem%members, 1, v)
 
-      ! first evaluation at the Newmark predictor (a = 0: q = qt)
-      a_new = 0.0_dp
+      ! first evaluation at the Newmark predictor (a = 0: q = qt; evaluate reads no x)
       call evaluate(a_new, .true., drive, load, g)
       if (ierr /= nm_ok) return
       if (restart) then
         if (any(abs(k_step - k_used) > problem%rparam(rp_refactor) * problem%mean_stiffness)) then
           call restart_acceleration()
           if (ierr /= nm_ok) return
-          a_new = 0.0_dp
           call evaluate(a_new, .true., drive, load, g)
           if (ierr /= nm_ok) return
         end if
@@ -407,6 +407,7 @@ contains
         if (any(abs(k_step - k_factored) > problem%rparam(rp_refactor) * problem%mean_stiffness)) then
           call refactor(k_step)
           if (ierr /= nm_ok) return
+          a_new = 0.0_dp  ! still the predictor
           call evaluate(a_new, .false., drive, load, g)
           if (ierr /= nm_ok) return
         end if
@@ -542,7 +543,7 @@ contains
         velocity_sum = velocity_sum + v
         istate(is_window) = istate(is_window) + 1
       end if
-      if (modulo(istate(is_step), decimation) == 0) then
+      if (decimation == 1 .or. modulo(istate(is_step), decimation) == 0) then
         call record_probes(problem, probe_kind, probes, q, v, a, k_used, rstate, samples, &
                          n_samples, ierr)
         if (ierr /= nm_ok) return

@@ -22,12 +22,12 @@ contains
     type(transient_problem), intent(in) :: problem     !< the problem
     integer(ik), intent(in) :: probe_kind(:)           !< probe codes [-]
     type(sparse_rows), intent(in) :: probes            !< probe weights (a mesh for mesh kinds) [-]
-    real(dp), intent(in) :: x(:)                       !< displacements [m, rad]
-    real(dp), intent(in) :: xd(:)                      !< velocities [m/s, rad/s]
-    real(dp), intent(in) :: xdd(:)                     !< accelerations [m/s^2, rad/s^2]
-    real(dp), intent(in) :: k_used(:)                  !< mesh stiffness in force [N/m]
+    real(dp), intent(in), contiguous :: x(:)           !< displacements [m, rad]
+    real(dp), intent(in), contiguous :: xd(:)          !< velocities [m/s, rad/s]
+    real(dp), intent(in), contiguous :: xdd(:)         !< accelerations [m/s^2, rad/s^2]
+    real(dp), intent(in), contiguous :: k_used(:)      !< mesh stiffness in force [N/m]
     real(dp), intent(in) :: rstate(n_rstate)           !< t_s [s], drive, load torque [N m]
-    real(dp), intent(inout) :: samples(:, :)           !< (probes, columns) channels [channel units]
+    real(dp), intent(inout), contiguous :: samples(:, :) !< (probes, columns) channels [channel units]
     integer(ik), intent(inout) :: n_samples            !< columns written [-]
     integer(ik), intent(inout) :: ierr                 !< error code, nm_err_size when full
     integer(ik) :: p, m
@@ -75,7 +75,7 @@ contains
     pure real(dp) function dot(rows, r, vector)
       type(sparse_rows), intent(in) :: rows  !< the packed set
       integer(ik), intent(in) :: r           !< row (1-based) [-]
-      real(dp), intent(in) :: vector(:)      !< vector over the DOFs [DOF units]
+      real(dp), intent(in), contiguous :: vector(:)  !< vector over the DOFs [DOF units]
       integer(ik) :: k
       dot = 0.0_dp
       do k = rows%ptr(r) + 1, rows%ptr(r + 1)

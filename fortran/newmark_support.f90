@@ -205,9 +205,9 @@ contains
   !> y(r) = w_r . x for every row r of a packed set of sparse vectors (one call for all
   !> rows: the time loop takes the meshes' deflections and angles this way).
   pure subroutine sparse_products(rows, x, y)
-    type(sparse_rows), intent(in) :: rows  !< the packed set
-    real(dp), intent(in) :: x(:)           !< vector over the DOFs [DOF units]
-    real(dp), intent(out) :: y(:)          !< one product per row [row units]
+    type(sparse_rows), intent(in) :: rows          !< the packed set
+    real(dp), intent(in), contiguous :: x(:)       !< vector over the DOFs [DOF units]
+    real(dp), intent(out), contiguous :: y(:)      !< one product per row [row units]
     integer(ik) :: r, k
     real(dp) :: total
     do r = 1, size(y, kind=ik)
