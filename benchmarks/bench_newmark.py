@@ -1,48 +1,61 @@
-"""Benchmark: cost per step of the banded Newmark kernel against a plain NumPy loop.
+"""Benchmark: cost per step of the Newmark kernel against its floor and a NumPy loop.
 
-On the study case's run-up (18 DOFs, time-varying mesh stiffness, ``predictor``
-equivalent load, the paper's 2.5e-5 s step), or with ``--case gearbox`` the
-gearbox's (50 DOFs, 15 meshes, the helical pair by its contact-line law, the
-output reversed), this measures, in one run:
+On the study case's run-up (18 DOFs, band half-width 13 of 17, time-varying mesh
+stiffness, ``predictor`` equivalent load, the paper's 2.5e-5 s step), or with ``--case
+gearbox`` the gearbox's (50 DOFs, 15 meshes, the helical pair by its contact-line law,
+the output reversed), this measures, alternating within each of ``--repeats`` repeats
+and reporting medians:
 
-* the kernel: microseconds per step inside ``transient_advance`` (chunks of steps
-  per call; Python only between chunks), median of ``--repeats`` runs;
-* a plain NumPy loop of the same algorithm on the same matrices (average
-  acceleration in acceleration form, the same predictor, the tooth-contact
-  parabola vectorised over meshes, the same drive and load laws, K-hat inverted
-  once), median of ``--repeats`` shorter runs; the two trajectories are compared;
-* memory: the peak of traced allocations for runs of different lengths and probe
-  counts, against what the full state (steps x DOFs x q, v, a) would need.
+* the kernel: microseconds per step inside ``transient_advance`` (chunks of steps per
+  call; Python only between chunks), on the path the automatic choice takes (dense for
+  both cases) and forced onto the banded path;
+* its floor, the bare Fortran loop of the same algorithm that this benchmark compiles
+  (``bare_newmark.f90.in`` through ``bare_loop.py``: gfortran -O3, linked against the
+  same scipy-openblas32 OpenBLAS, the same channels recorded every step, one fused
+  dgemv per step for the dense path, band products and dpbtrs for the banded one);
+* a fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a precomputed
+  dense inverse, two fused matrix-vector products per step, the same channels);
+* each as a ratio to the kernel of the same repeat (median of the ratios); the three
+  trajectories are compared;
+* what rigid-body rebasing costs, and memory: the peak of traced allocations for runs of
+  different lengths and probe counts, against the full state (steps x DOFs x q, v, a).
+
+Times are the CPU time of the running thread (the kernel's and NumPy's thread, the bare
+program's process with one OpenBLAS thread): on a small machine shared with other work a
+run loses whole scheduler slices (4 ms) to other processes, which CPU time does not
+count; the kernel's wall clock is printed beside it.
 
 Usage::
 
-    PYTHONPATH=. python benchmarks/bench_newmark.py [--case gearbox] [--steps 200000] [--repeats 5]
+    PYTHONPATH=. python benchmarks/bench_newmark.py [--case gearbox] [--steps 100000] [--repeats 7]
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
-import math
+import os
 import statistics
 import time
 import tracemalloc
 
 import numpy as np
+from bare_loop import BareLoop, loop_arrays, numpy_fused
 
 from pygear import Probe, load_case
-from pygear.analysis.transient import _kinematic_ratio, transient_problem
-from pygear.assembly.contact_table import LAW_CODES
+from pygear.analysis.transient import transient_problem
+from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 
-CASES = {  # case, scene, channels compared with the NumPy loop
+CASES = {  # case, scene, the speed and mesh-force channels of the memory runs
     "study": ("yang2016_planetary", "runup", ("planetary.carrier", "sun-planet1")),
     "gearbox": ("yang2016_gearbox", "runup_tv", ("stage1.carrier", "stage1.sun-planet1")),
 }
 CASE = "study"
 
 
-def problem_for(steps: int, probes: tuple | None = None):
-    """The case's run-up scene, cut to ``steps`` steps (optionally other probes)."""
+def problem_for(steps: int, probes: tuple | None = None, linear_solver: str | None = None):
+    """The case's run-up scene, cut to ``steps`` steps (optionally other probes, or the
+    kernel's linear solver forced)."""
     name, scene_name, _ = CASES[CASE]
     case = load_case(name)
     scene = case.scene(scene_name)
@@ -51,84 +64,46 @@ def problem_for(steps: int, probes: tuple | None = None):
     if probes is not None:
         changes["probes"] = probes
     settings = dataclasses.replace(settings, **changes)
-    return transient_problem(case, dataclasses.replace(scene, transient=settings))
+    forced = os.environ.pop(LINEAR_SOLVER_VARIABLE, None)
+    if linear_solver is not None:
+        os.environ[LINEAR_SOLVER_VARIABLE] = linear_solver
+    try:
+        return transient_problem(case, dataclasses.replace(scene, transient=settings))
+    finally:
+        os.environ.pop(LINEAR_SOLVER_VARIABLE, None)
+        if forced is not None:
+            os.environ[LINEAR_SOLVER_VARIABLE] = forced
 
 
 def kernel_run(problem, steps: int):
     return problem.solver.run(steps, problem.probes, decimation=problem.settings.decimation)
 
 
-def numpy_newmark(problem, steps: int) -> dict[str, np.ndarray]:
-    """The kernel's algorithm, step by step in NumPy (dense matrices, no band storage)."""
-    model, solver, settings = problem.model, problem.solver, problem.settings
-    table = solver.meshes.table
-    mass, damping, stiffness = model.mass, model.damping, model.stiffness
-    dt, beta, gamma = settings.time_step, 0.25, 0.5
-    khat = stiffness + mass / (beta * dt * dt) + gamma / (beta * dt) * damping
-    khat_inverse = np.linalg.inv(khat)
-    scale = 1.0 / (beta * dt * dt)
-    b = solver.meshes.deflection
-    angle = solver.meshes.angle
-    kbar = solver.meshes.mean_stiffness
-    z1 = table.teeth[0].astype(float)
-    sigma, phase = table.cycle_sign.astype(float), table.phase
-    eps, lam = table.contact_ratio, table.end_to_peak
-    peak = 3 * kbar / (eps * (2 + lam))
-    helical = table.law == LAW_CODES["helical"]
-    transverse = np.where(helical, eps - lam, 1.0)
-    offsets = np.arange(table.max_pairs)[:, None]
-    w_in = _member(problem, problem.input_label)
-    w_out = _member(problem, problem.output_label)
-    if _kinematic_ratio(problem.case, model, problem.input_label, problem.output_label) < 0:
-        w_out = -w_out  # the load law brakes the reversed output
-    drive = settings.drive.torque
-    ratio = problem.ratio
-    omega_0 = settings.speed_reference_rpm * math.pi / 30
-    load_scale, load_speed = drive / ratio, ratio * omega_0
-    n = model.size
-    q, v = np.zeros(n), np.zeros(n)
-    a = np.linalg.solve(mass, drive * w_in)
-    load_on, t_s = False, math.nan
-    carrier = np.empty(steps)
-    force = np.empty(steps)
-    for step in range(steps):
-        qt = q + dt * v + (dt * dt * (0.5 - beta)) * a
-        vt = v + (dt * (1 - gamma)) * a
-        rhs = -(damping @ vt) - stiffness @ qt
-        # mesh stiffness at the Newmark predictor: pairs at frac(s) + k while < eps
-        s = sigma * z1 * (angle @ qt) / (2 * np.pi) + phase
-        p = (s - np.floor(s)) + offsets
-        x = 2 * p / eps - 1
-        pair = np.where(
-            helical,
-            kbar
-            * np.minimum(np.minimum(p, eps - p), np.minimum(transverse, lam))
-            / (transverse * lam),
-            peak * (1 - (1 - lam) * x * x),
-        )
-        k = np.where(p < eps, pair, 0.0).sum(axis=0)
-        delta = b @ qt
-        rhs -= b.T @ ((k - kbar) * delta)
-        speed_out = w_out @ vt
-        load = load_scale * abs(speed_out / load_speed) ** 2 * np.sign(speed_out) if load_on else 0
-        rhs += drive * w_in - load * w_out
-        a_new = khat_inverse @ (scale * rhs)
-        speed_old = w_in @ v
-        q = qt + (beta * dt * dt) * a_new
-        v = vt + (gamma * dt) * a_new
-        a = a_new
-        speed = w_in @ v
-        if not load_on and speed >= omega_0:
-            load_on = True
-            t_s = step * dt + dt * (omega_0 - speed_old) / (speed - speed_old)
-        carrier[step] = speed * 30 / math.pi
-        force[step] = -k[0] * (b[0] @ q)
-    return {"carrier": carrier, "force": force, "t_s": t_s}
+def kernel_times(problem, steps: int) -> tuple[float, float]:
+    """CPU time of this thread and wall clock inside ``transient_advance`` [us per step]."""
+    solver = problem.solver
+    advance = type(solver)._advance
+    spent = [0.0]
+
+    def timed(*arguments):
+        started = time.thread_time()
+        try:
+            return advance(solver, *arguments)
+        finally:
+            spent[0] += time.thread_time() - started
+
+    solver._advance = timed
+    try:
+        result = kernel_run(problem, steps)
+    finally:
+        del solver._advance
+    return spent[0] / result.steps * 1e6, result.solver_wall_s / result.steps * 1e6
 
 
-def _member(problem, label: str) -> np.ndarray:
-    index = problem.model.full_labels.index(label)
-    return np.array(problem.model.reduction[index])
+def _numpy_cpu_us(arrays, steps: int) -> float:
+    started = time.thread_time()
+    numpy_fused(arrays, steps)
+    return (time.thread_time() - started) / steps * 1e6
 
 
 def median(function, repeats: int) -> float:
@@ -137,48 +112,93 @@ def median(function, repeats: int) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=200_000, help="kernel steps per run")
-    parser.add_argument("--numpy-steps", type=int, default=20_000, help="NumPy steps per run")
-    parser.add_argument("--repeats", type=int, default=5, help="repeats (median)")
+    parser.add_argument("--steps", type=int, default=100_000, help="kernel steps per run")
+    parser.add_argument("--numpy-steps", type=int, default=8_000, help="NumPy steps per run")
+    parser.add_argument("--repeats", type=int, default=7, help="repeats (median)")
     parser.add_argument("--case", choices=sorted(CASES), default="study", help="which run-up")
     args = parser.parse_args()
     global CASE
     CASE = args.case
-    speed_channel, force_channel = CASES[CASE][2]
+    speed_channel = CASES[CASE][2][0]
 
     problem = problem_for(args.steps)
+    banded = problem_for(args.steps, linear_solver="banded_cholesky")
     solver = problem.solver
     print(
         f"{CASES[CASE][0]} {CASES[CASE][1]}: {problem.model.size} DOFs, "
         f"band half-width {solver.bandwidth} "
         f"(reverse Cuthill-McKee), {solver.meshes.size} meshes, time-varying mesh stiffness, "
         f"equivalent load '{solver.equivalent_load}', dt = {problem.settings.time_step:g} s, "
-        f"{len(problem.probes)} probes at 40 kHz"
+        f"{len(problem.probes)} probes at 40 kHz\n"
+        f"kernel linear solver: {solver.linear_solver} ({solver.linear_solver_reason})"
     )
-    kernel_run(problem, 1000)  # warm-up
+    arrays = loop_arrays(problem)
+    bare = BareLoop(arrays, args.steps)
+    for warm in (problem, banded):
+        kernel_run(warm, 2000)
 
-    def kernel_us() -> float:
-        result = kernel_run(problem, args.steps)
-        return result.solver_wall_s / result.steps * 1e6
+    rows = {  # name: (function giving CPU us per step, kernel it is compared with)
+        "kernel": lambda: kernel_times(problem, args.steps),
+        "kernel, banded path": lambda: kernel_times(banded, args.steps),
+        "bare loop, dense (floor)": lambda: (bare.run("dense_blas").cpu_us_per_step, None),
+        "bare loop, banded (floor)": lambda: (bare.run("band").cpu_us_per_step, None),
+        "fused NumPy loop": lambda: (_numpy_cpu_us(arrays, args.numpy_steps), None),
+    }
+    times: dict[str, list[float]] = {name: [] for name in rows}
+    wall: dict[str, list[float]] = {"kernel": [], "kernel, banded path": []}
+    for _ in range(args.repeats):  # alternating, so that every repeat sees the same machine
+        for name, measure in rows.items():
+            cpu, wall_clock = measure()
+            times[name].append(cpu)
+            if wall_clock is not None:
+                wall[name].append(wall_clock)
+
+    def ratio(name: str, to: str) -> float:
+        return statistics.median(a / b for a, b in zip(times[name], times[to]))
+
+    print(f"\nmicroseconds per step, medians of {args.repeats} alternating repeats (CPU time):")
+    for name in rows:
+        line = f"  {name:27s} {statistics.median(times[name]):9.3f}"
+        if name in wall:
+            line += f"   (wall clock {statistics.median(wall[name]):.3f})"
+        print(line)
+    print("ratios, medians over the repeats:")
+    dense_floor = ratio("kernel", "bare loop, dense (floor)")
+    print(f"  kernel / its floor (dense)            {dense_floor:6.2f}")
+    print(
+        f"  banded kernel / its floor (banded)    "
+        f"{ratio('kernel, banded path', 'bare loop, banded (floor)'):6.2f}"
+    )
+    print(f"  fused NumPy loop / kernel             {ratio('fused NumPy loop', 'kernel'):6.1f}")
+    print(f"  banded kernel / kernel                {ratio('kernel, banded path', 'kernel'):6.2f}")
+
+    # the same trajectory: every channel of the kernel, the bare loop and the NumPy loop,
+    # against the largest value of its kind (a symmetric stage's ring acceleration is zero
+    # in exact arithmetic: round-off against the other accelerations)
+    result = kernel_run(problem_for(args.numpy_steps), args.numpy_steps)
+    reference, numpy_t_s = numpy_fused(arrays, args.numpy_steps)
+    floor = bare.run("dense_blas")
+    names = [probe.name for probe in problem.probes]
+    kinds = [kind for _, kind, _ in arrays.linear] + ["force"] * len(arrays.forces) + ["torque"] * 2
+    kernel = np.array([result.samples[names.index(name), 1:] for name in arrays.names])
+    scale = {kind: np.abs(kernel[np.array(kinds) == kind]).max() for kind in set(kinds)}
+    worst = {}
+    for label, samples in (("bare loop", floor.samples), ("NumPy loop", reference)):
+        difference = np.abs(samples[:, : args.numpy_steps] - kernel).max(axis=1)
+        worst[label] = max(d / scale[kind] for d, kind in zip(difference, kinds))
+    print(
+        f"kernel against the references over {args.numpy_steps} steps (largest difference of "
+        f"a channel, relative to its kind's largest value): bare loop {worst['bare loop']:.1e}, "
+        f"NumPy loop {worst['NumPy loop']:.1e}; t_s {result.t_s:.6f} and {numpy_t_s:.6f} s "
+        f"(NaN: not reached)"
+    )
 
     def wall_us() -> float:
         started = time.perf_counter()
         result = kernel_run(problem, args.steps)
         return (time.perf_counter() - started) / result.steps * 1e6
 
-    kernel = median(kernel_us, args.repeats)
     whole = median(wall_us, args.repeats)
-
-    def numpy_us() -> float:
-        started = time.perf_counter()
-        numpy_newmark(problem, args.numpy_steps)
-        return (time.perf_counter() - started) / args.numpy_steps * 1e6
-
-    plain = median(numpy_us, args.repeats)
-    print(f"\nkernel (inside transient_advance) : {kernel:8.3f} us per step")
-    print(f"kernel run incl. Python per chunk : {whole:8.3f} us per step")
-    print(f"plain NumPy loop, same algorithm  : {plain:8.3f} us per step")
-    print(f"ratio NumPy / kernel              : {plain / kernel:8.1f} x")
 
     # rigid-body rebasing (pygear.kernel.newmark_rebase) against a run that never rebases
     import pygear.kernel.newmark_rebase as rebase
@@ -192,25 +212,6 @@ def main() -> None:
     print(
         f"rebasing every {default_steps} steps costs {100 * (whole / never - 1):+.1f} % "
         f"({whole:.3f} against {never:.3f} us per step without it)"
-    )
-
-    # the same trajectory: carrier speed and sun-planet1 mesh force of both loops
-    reference = numpy_newmark(problem, args.numpy_steps)
-    check = problem_for(
-        args.numpy_steps,
-        (Probe("speed", speed_channel), Probe("mesh_force", force_channel)),
-    )
-    result = kernel_run(check, args.numpy_steps)
-    speed_error = np.max(np.abs(result.samples[0, 1:] - reference["carrier"])) / np.max(
-        np.abs(reference["carrier"])
-    )
-    force_error = np.max(np.abs(result.samples[1, 1:] - reference["force"])) / np.max(
-        np.abs(reference["force"])
-    )
-    print(
-        f"kernel vs NumPy over {args.numpy_steps} steps: carrier speed {speed_error:.1e}, "
-        f"mesh force {force_error:.1e} (max relative difference), t_s {result.t_s:.6f} vs "
-        f"{reference['t_s']:.6f} s"
     )
 
     print("\nmemory (peak of traced allocations during the run):")
