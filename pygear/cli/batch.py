@@ -74,6 +74,21 @@ def _add_dask_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _batch(args: argparse.Namespace) -> int:
+    from ..runs.cluster import local_worker_server
+
+    # the local workers' fork server imports their code while this process loads its own
+    with local_worker_server(local=args.scheduler is None):
+        return _run_batch(args)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from ..runs.cluster import local_worker_server
+
+    with local_worker_server(local=args.scheduler is None and args.cluster is None):
+        return _run_sweep(args)
+
+
+def _run_batch(args: argparse.Namespace) -> int:
     from ..runs.batch import SUMMARY_NAME, run_batch
     from ..runs.json_output import json_text
 
@@ -100,7 +115,7 @@ def _batch(args: argparse.Namespace) -> int:
     return 1 if (table["status"] == "error").any() else 0
 
 
-def _sweep(args: argparse.Namespace) -> int:
+def _run_sweep(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..model.case import load_case
