@@ -1,16 +1,23 @@
-"""Scale-out of a parameter sweep: parallel efficiency on 2 workers against 1, and the
-overhead per point against the point's own run.
+"""Scale-out of a parameter sweep at two sizes (8 and 40 points by default): what a
+sweep costs beyond its points, per sweep and per point, and its parallel efficiency
+on 2 workers against 1.
 
-The same sweep runs into a fresh directory on a warm local cluster (worker processes
-started and pygear imported before timing), as ``run_sweep`` starts its own, at two
-sizes, so that the fixed cost of a sweep (connecting, planning, combining, writing
-``sweep_<hash>.nc``) and the cost per point separate; medians of repeats.
-The point's own run is measured in this process: its analyses alone, and with its
-NetCDF file written (``pygear.runs.sweep_points.run_point``).  The machine's load average
-is printed: on a shared 2-core machine other work takes cores from the workers.
+Two views, medians of repeats:
 
-    python benchmarks/bench_sweep.py                 # modal points of the study case
-    python benchmarks/bench_sweep.py --scene runup   # transient points, once supported
+* **warm**: the sweep alone on a running local cluster (started by
+  ``pygear.runs.cluster.dask_client``, as the commands start theirs), so what is left
+  is planning, the tasks and combining the points into ``sweep_<hash>.nc``;
+* **command**: the whole ``pygear sweep`` process as typed, cluster start-up, imports
+  and shutdown included; after each, the processes of its session are counted (none
+  may be left).
+
+The fixed cost per sweep and the cost per point come from the two sizes (intercept
+and slope); a point's own run is measured in this process (its analyses alone, and
+with its NetCDF file).  The load average is printed: on a shared 2-core machine other
+work takes cores from the workers.
+
+    python benchmarks/bench_sweep.py                       # run-up points, 8 and 40
+    python benchmarks/bench_sweep.py --scene modal --points 8 96
 """
 
 from __future__ import annotations
@@ -18,14 +25,19 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import statistics
+import subprocess
+import sys
 import tempfile
+import time
 from pathlib import Path
 
-from distributed import LocalCluster
+import psutil
 from timing import median_seconds
 
 from pygear import load_case
 from pygear.assembly import assemble
+from pygear.runs.cluster import dask_client
 from pygear.runs.sweep import POINT_ANALYSES, run_sweep
 from pygear.runs.sweep_points import (
     PointTask,
@@ -68,12 +80,15 @@ def serial_per_point(case, scene: str | None, n: int, repeats: int) -> tuple[flo
             assert run_point(task)["status"] == "computed"
 
     try:
+        analyses_only()  # warm: first-use costs are not a point's
         return median_seconds(analyses_only, repeats) / n, median_seconds(with_files, repeats) / n
     finally:
         shutil.rmtree(scratch)
 
 
-def sweep_seconds(address: str, scene: str | None, n: int, repeats: int) -> float:
+def warm_seconds(address: str, scene: str | None, n: int, repeats: int) -> float:
+    """Median wall time of an ``n``-point sweep on the running cluster at ``address``."""
+
     def once() -> None:
         with tempfile.TemporaryDirectory(prefix="bench_sweep_") as out:
             result = run_sweep(CASE, [(PARAMETER, values(n))], scene=scene, out_dir=out,
@@ -83,49 +98,89 @@ def sweep_seconds(address: str, scene: str | None, n: int, repeats: int) -> floa
     return median_seconds(once, repeats)
 
 
+def _session_processes(session: int) -> int:
+    count = 0
+    for process in psutil.process_iter():
+        try:
+            count += os.getsid(process.pid) == session
+        except (ProcessLookupError, PermissionError, psutil.Error):
+            continue
+    return count
+
+
+def command_seconds(workers: int, scene: str | None, n: int, repeats: int) -> tuple[float, int]:
+    """Median wall time of a whole ``pygear sweep`` process, and the most processes of
+    its session found after it exited."""
+    script = Path(sys.executable).with_name("pygear")
+    command = [str(script)] if script.is_file() else [sys.executable, "-m", "pygear"]
+    walls, left = [], 0
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory(prefix="bench_sweep_command_") as out:
+            argv = ["sweep", str(CASE), "--param", f"{PARAMETER}={values(n)}",
+                    "--workers", str(workers), "--out", out, "--json"]  # fmt: skip
+            if scene:
+                argv += ["--scene", scene]
+            started = time.perf_counter()
+            process = subprocess.Popen(
+                command + argv,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                start_new_session=True,
+            )
+            _, err = process.communicate()
+            walls.append(time.perf_counter() - started)
+            if process.returncode != 0:
+                raise RuntimeError(f"pygear {' '.join(argv)} failed:\n{err.decode()}")
+            left = max(left, _session_processes(process.pid))
+    return statistics.median(walls), left
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--points", type=int, default=96, help="points of the large sweep")
-    parser.add_argument("--repeats", type=int, default=5, help="repeats (median)")
-    parser.add_argument("--scene", help="scene of the points (default: the case's first)")
+    parser.add_argument("--points", type=int, nargs=2, default=(8, 40), help="the two sizes")
+    parser.add_argument("--repeats", type=int, default=3, help="repeats (median)")
+    parser.add_argument("--scene", default="runup", help="scene of the points (default runup)")
     args = parser.parse_args()
-    large, small = args.points, max(2, args.points // 4)
+    small, large = sorted(args.points)
     load_before = os.getloadavg()[0]
-    analyses, with_file = serial_per_point(load_case(CASE), args.scene, large, 3)
-    timings: dict[tuple[int, int], float] = {}
+    analyses, with_file = serial_per_point(load_case(CASE), args.scene, 4, args.repeats)
+    warm: dict[tuple[int, int], float] = {}
     for workers in (1, 2):
-        with LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as cluster:
-            sweep_seconds(cluster.scheduler_address, args.scene, 4, 1)  # warm up
+        with dask_client(workers=workers) as client:
+            warm_seconds(client.scheduler.address, args.scene, 4, 1)  # first tasks
             for n in (small, large):
-                timings[workers, n] = sweep_seconds(
-                    cluster.scheduler_address, args.scene, n, args.repeats
-                )
-    slope = {w: (timings[w, large] - timings[w, small]) / (large - small) for w in (1, 2)}
-    fixed = {w: timings[w, large] - slope[w] * large for w in (1, 2)}
+                warm[workers, n] = warm_seconds(client.scheduler.address, args.scene, n,
+                                                args.repeats)  # fmt: skip
+    cold: dict[tuple[int, int], float] = {}
+    left = 0
+    for workers in (1, 2):
+        for n in (small, large):
+            cold[workers, n], stray = command_seconds(workers, args.scene, n, args.repeats)
+            left = max(left, stray)
+
+    def fit(times: dict[tuple[int, int], float], workers: int) -> tuple[float, float]:
+        slope = (times[workers, large] - times[workers, small]) / (large - small)
+        return times[workers, small] - slope * small, slope
+
     print(f"sweeps of {small} and {large} points over {PARAMETER} ({CASE.name}, scene "
-          f"{args.scene or 'first'}), medians of {args.repeats}, "
+          f"{args.scene}), medians of {args.repeats}, "
           f"load average {load_before:.2f} -> {os.getloadavg()[0]:.2f}")  # fmt: skip
-    rows = [
-        ("point: analyses alone, serial", analyses * 1e3, "ms"),
-        ("point: analyses + its NetCDF file, serial", with_file * 1e3, "ms"),
-        ("sweep, 1 worker: per point", slope[1] * 1e3, "ms"),
-        ("sweep, 2 workers: per point", slope[2] * 1e3, "ms"),
-        ("overhead per point, 1 worker", (slope[1] - analyses) * 1e3, "ms"),
-        ("  of which the point file", (with_file - analyses) * 1e3, "ms"),
-        ("  of which Dask and the client", (slope[1] - with_file) * 1e3, "ms"),
-        ("fixed cost of a sweep, 1 / 2 workers", fixed[1], f"s / {fixed[2]:.2f} s"),
-        (f"{large} points, 1 / 2 workers", timings[1, large], f"s / {timings[2, large]:.2f} s"),
-        (
-            f"parallel efficiency, {large} points",
-            timings[1, large] / timings[2, large] / 2 * 100,
-            "%",
-        ),  # fmt: skip
-        ("parallel efficiency per point (slopes)", slope[1] / slope[2] / 2 * 100, "%"),
-    ]
-    for name, value, unit in rows:
-        print(f"{name:<42} {value:>8.2f} {unit}")
+    print(f"point: analyses alone, serial {analyses * 1e3:.0f} ms; with its NetCDF file "
+          f"{with_file * 1e3:.0f} ms")  # fmt: skip
+    print(f"{'':<34} {'fixed [s]':>9} {'per point [ms]':>15} "
+          f"{f'{small} points [s]':>14} {f'{large} points [s]':>14}")  # fmt: skip
+    for label, times in (("warm cluster", warm), ("whole `pygear sweep`", cold)):
+        for workers in (1, 2):
+            fixed, slope = fit(times, workers)
+            print(f"{label + f', {workers} worker' + 's' * (workers > 1):<34} {fixed:>9.2f} "
+                  f"{slope * 1e3:>15.0f} {times[workers, small]:>14.2f} "
+                  f"{times[workers, large]:>14.2f}")  # fmt: skip
+        efficiency = [times[1, n] / times[2, n] / 2 * 100 for n in (small, large)]
+        print(f"{label + ', parallel efficiency':<34} {'':>9} {'':>15} "
+              f"{efficiency[0]:>13.0f}% {efficiency[1]:>13.0f}%")  # fmt: skip
+    overhead = fit(warm, 1)[1] - with_file
+    print(f"overhead per point beyond its run and file, warm, 1 worker: {overhead * 1e3:.0f} ms")
+    print(f"processes left in a command's session after it exited: {left}")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,123 @@
+"""What the user waits for: whole ``pygear`` processes, start to exit, against the
+solver's own time.
+
+Each command runs as a fresh process (as typed at a shell: the ``pygear`` script
+beside this Python), so the wall time holds the interpreter's start, every import,
+the work, the files and the figures.  Its peak resident memory is the child's own
+``ru_maxrss`` from ``os.wait4`` (the counter ``/usr/bin/time -v`` reports, read
+without a second program).  A run's solver time is the ``solver_wall_s`` attribute of
+the ``<scene>.nc`` it wrote (the kernel's integration only), and every time is also
+given as a ratio to the median of those.  Medians of repeats; the load average is
+printed, since other work on a shared machine takes cores from the commands.
+
+    python benchmarks/bench_end_to_end.py              # 5 repeats
+    python benchmarks/bench_end_to_end.py --repeats 3 --case yang2016_planetary
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import netCDF4
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def pygear_command() -> list[str]:
+    """The ``pygear`` console script of this environment, else ``python -m pygear``."""
+    script = Path(sys.executable).with_name("pygear")
+    return [str(script)] if script.is_file() else [sys.executable, "-m", "pygear"]
+
+
+def run_once(arguments: list[str], cwd: Path) -> tuple[float, float]:
+    """Wall time [s] and peak resident memory [MiB] of one process (output discarded)."""
+    started = time.perf_counter()
+    process = subprocess.Popen(
+        pygear_command() + arguments,
+        cwd=cwd,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    _, status, usage = os.wait4(process.pid, 0)
+    wall = time.perf_counter() - started
+    stderr = process.stderr.read().decode(errors="replace") if process.stderr else ""
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode != 0:
+        raise RuntimeError(f"pygear {' '.join(arguments)} failed:\n{stderr}")
+    # ru_maxrss is in kilobytes on Linux, bytes on macOS
+    scale = 1.0 if sys.platform == "darwin" else 1024.0
+    return wall, usage.ru_maxrss * scale / 2**20
+
+
+def solver_seconds(path: Path) -> float:
+    """The kernel's integration time a run recorded in its file."""
+    with netCDF4.Dataset(path) as dataset:
+        return float(dataset.getncattr("solver_wall_s"))
+
+
+def supports(arguments: list[str], option: str) -> bool:
+    """Whether ``pygear ARGUMENTS --help`` lists ``option``."""
+    shown = subprocess.run(
+        pygear_command() + arguments + ["--help"], capture_output=True, text=True, check=True
+    )
+    return option in shown.stdout
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5, help="repeats per command (median)")
+    parser.add_argument("--case", default="yang2016_planetary", help="case name or directory")
+    parser.add_argument("--scene", default="runup", help="transient scene to run")
+    args = parser.parse_args()
+    scratch = Path(tempfile.mkdtemp(prefix="bench_end_to_end_"))
+    run = ["run", args.case, "--scene", args.scene]
+    commands = [
+        ("pygear --help", ["--help"], None),
+        (f"pygear modal {args.case}", ["modal", args.case], None),
+        (f"pygear {' '.join(run)}", run + ["--out", str(scratch / "figures")], "figures"),
+    ]
+    if supports(["run"], "--no-figures"):
+        commands.append(
+            (
+                f"pygear {' '.join(run)} --no-figures",
+                run + ["--no-figures", "--out", str(scratch / "plain")],
+                "plain",
+            )
+        )
+    load_before = os.getloadavg()[0]
+    results = []
+    solver: list[float] = []
+    try:
+        run_once(["--help"], ROOT)  # a kernel rebuild after an edit is not what we time
+        for name, arguments, out in commands:
+            walls, peaks = [], []
+            for _ in range(args.repeats):
+                wall, peak = run_once(arguments, ROOT)
+                walls.append(wall)
+                peaks.append(peak)
+                if out is not None:
+                    solver.append(solver_seconds(scratch / out / f"{args.scene}.nc"))
+            results.append((name, statistics.median(walls), statistics.median(peaks)))
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    solver_median = statistics.median(solver)
+    print(
+        f"whole processes, medians of {args.repeats}; solver (solver_wall_s of the runs) "
+        f"{solver_median * 1e3:.0f} ms; load average {load_before:.2f} -> "
+        f"{os.getloadavg()[0]:.2f}"
+    )
+    print(f"{'command':<58} {'wall [s]':>8} {'x solver':>8} {'peak RSS [MiB]':>15}")
+    for name, wall, peak in results:
+        print(f"{name:<58} {wall:>8.2f} {wall / solver_median:>8.2f} {peak:>15.0f}")
+
+
+if __name__ == "__main__":
+    main()
