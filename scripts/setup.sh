@@ -28,7 +28,10 @@ fi
 # pkg-config finds the wheel's OpenBLAS (scipy-openblas.pc); meson keeps the path for rebuilds
 openblas_pc=$("$VENV/bin/python" -c \
   "import os, scipy_openblas32 as s; print(os.path.join(s.get_lib_dir(), 'pkgconfig'))")
-# editable: the extension is rebuilt on import whenever a Fortran or Python file changed
-"$VENV/bin/python" -m pip install -q --no-build-isolation \
+# editable: the extension is rebuilt on import whenever a Fortran or Python file changed.
+# Every import of pygear asks ninja whether it must rebuild: name the venv's ninja by
+# its absolute path, or the install records whichever `ninja` is first on PATH (a pyenv
+# shim script costs 0.1 s per process, a third of `pygear --help`)
+NINJA="$(cd "$VENV/bin" && pwd)/ninja" "$VENV/bin/python" -m pip install -q --no-build-isolation \
   -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test]"
 "$VENV/bin/python" -c "import pygear.kernel._kernel" && echo "setup: pygear is installed in $VENV" >&2
