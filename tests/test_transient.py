@@ -332,7 +332,7 @@ def test_iterate_converges_where_predictor_diverges(study_case, modes):
 def test_unstable_run_fails_clearly_and_writes_nothing(study_case, tmp_path, capsys, monkeypatch):
     unstable = _short_scene(study_case, 1e-4, "predictor")
     case = dataclasses.replace(study_case, scenes=(unstable,))
-    monkeypatch.setattr("pygear.cli.run.load_case", lambda reference: case)
+    monkeypatch.setattr("pygear.model.case.load_case", lambda reference: case)
     assert main(["run", CASE, "--out", str(tmp_path)]) == 2
     error = capsys.readouterr().err
     assert "at t = " in error and "likely cause" in error and "mesh" in error
@@ -391,7 +391,7 @@ def test_cli_checkpoint_and_resume(study_case, tmp_path, capsys, monkeypatch):
     exactly as an uninterrupted one and removes it."""
     scene = _short_scene(study_case, 2.5e-5, "predictor", duration=0.2)
     case = dataclasses.replace(study_case, scenes=(scene,))
-    monkeypatch.setattr("pygear.cli.run.load_case", lambda reference: case)
+    monkeypatch.setattr("pygear.model.case.load_case", lambda reference: case)
     interrupting = {"on": True}
 
     class Bar:
