@@ -10,6 +10,10 @@ the ``<scene>.nc`` it wrote (the kernel's integration only), and every time is a
 given as a ratio to the median of those.  Medians of repeats; the load average is
 printed, since other work on a shared machine takes cores from the commands.
 
+Then each figure of the run-up is drawn again in this process from the run's files
+(median of repeats after one untimed drawing), and Matplotlib's first import is timed:
+what each figure adds to ``pygear run``.
+
     python benchmarks/bench_end_to_end.py              # 5 repeats
     python benchmarks/bench_end_to_end.py --repeats 3 --case yang2016_planetary
 """
@@ -27,6 +31,7 @@ import time
 from pathlib import Path
 
 import netCDF4
+from timing import median_seconds
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -61,6 +66,37 @@ def solver_seconds(path: Path) -> float:
     """The kernel's integration time a run recorded in its file."""
     with netCDF4.Dataset(path) as dataset:
         return float(dataset.getncattr("solver_wall_s"))
+
+
+def figure_costs(run_file: Path, scratch: Path, repeats: int) -> list[tuple[str, float]]:
+    """Seconds to draw each figure ``pygear run`` draws for a run-up, from its file;
+    the first row is Matplotlib's import (with pyplot and the Agg backend)."""
+    import xarray as xr
+
+    from pygear.analysis.analyze import analyze_channel
+    from pygear.model.case import SIGNAL_AFTER
+    from pygear.runs.outputs import acceleration_channels, stored_references
+
+    with xr.open_dataset(run_file) as opened:
+        run = opened.load()
+    natural, mesh = stored_references(run, run_file)
+    started = time.perf_counter()
+    from pygear.plots.signal import plot_run_analysis
+    from pygear.plots.transient import plot_speeds
+
+    rows = [("import matplotlib.pyplot (Agg) and pygear.plots", time.perf_counter() - started)]
+    target = scratch / "figure.png"
+    speeds = lambda: plot_speeds([run], target, format="png")  # noqa: E731
+    speeds()
+    rows.append(("speeds (runup_speeds.png)", median_seconds(speeds, repeats)))
+    for channel in acceleration_channels(run):
+        analysis = analyze_channel(
+            run, channel, after=SIGNAL_AFTER, natural_frequencies=natural, mesh_frequency=mesh
+        )
+        draw = lambda a=analysis: plot_run_analysis(a, target)  # noqa: E731
+        draw()
+        rows.append((f"signal analysis of {channel}", median_seconds(draw, repeats)))
+    return rows
 
 
 def supports(arguments: list[str], option: str) -> bool:
@@ -106,6 +142,7 @@ def main() -> None:
                 if out is not None:
                     solver.append(solver_seconds(scratch / out / f"{args.scene}.nc"))
             results.append((name, statistics.median(walls), statistics.median(peaks)))
+        figures = figure_costs(scratch / "figures" / f"{args.scene}.nc", scratch, args.repeats)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     solver_median = statistics.median(solver)
@@ -117,6 +154,9 @@ def main() -> None:
     print(f"{'command':<58} {'wall [s]':>8} {'x solver':>8} {'peak RSS [MiB]':>15}")
     for name, wall, peak in results:
         print(f"{name:<58} {wall:>8.2f} {wall / solver_median:>8.2f} {peak:>15.0f}")
+    print(f"\n{'figure of the run, drawn in this process':<58} {'wall [s]':>8} {'x solver':>8}")
+    for name, seconds in figures:
+        print(f"{name:<58} {seconds:>8.3f} {seconds / solver_median:>8.2f}")
 
 
 if __name__ == "__main__":
