@@ -108,7 +108,9 @@ def with_soft_mesh_cause(
     (``static``, per mesh [m]) is at least :data:`SOFT_MESH_SHARE` of the limit."""
     limit = settings.deflection_limit
     found = re.search(r"the deflection of mesh (\S+) exceeds deflection_limit", str(error))
-    if type(error) is not TransientError or found is None or not len(static):
+    # a growth diagnostic (PhysicalInstabilityError) included: a suddenly loaded soft
+    # mesh rings up within a few periods, which looks like growth but is its overshoot
+    if not isinstance(error, TransientError) or found is None or not len(static):
         return error
     # the kernel names meshes without their stage: take the softest of that name
     candidates = [m for m, mesh in enumerate(model.meshes) if mesh.name == found.group(1)]
