@@ -135,8 +135,8 @@ def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tup
     limit = DENSE_DOFS_NARROW_BAND + DENSE_DOFS_PER_DIAGONAL * bandwidth
     if n <= limit:
         # faster here, but an explicit inverse is not backward stable: over 1e6 steps of
-        # the study case at 2000 rpm its speeds drift 1.4e-3 where the Cholesky solve
-        # keeps 1e-10 (tests/test_long_runs.py), so it runs only when asked for
+        # the study case at 2000 rpm its state drifts to 6e-9 of its size, beyond the
+        # 1e-9 the banded solve keeps (tests/test_long_runs.py); dense only on request
         return "banded_cholesky", (
             f"automatic: {shape}; the dense inverse would be faster up to {limit} DOFs but "
             "loses accuracy over long runs, so it runs only on request"
