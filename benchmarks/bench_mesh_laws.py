@@ -46,7 +46,7 @@ from timing import median_seconds
 
 from pygear import load_case
 from pygear.analysis.transient import TransientProblem, transient_problem
-from pygear.assembly.mesh_laws import _bore, _resolve, mesh_law, with_mesh_law
+from pygear.assembly.mesh_laws import _bore, _resolve, gears_swapped, mesh_law, with_mesh_law
 from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
 from pygear.assembly.tooth_stiffness import ToothBody, mesh_stiffness
 from pygear.errors import CaseError
@@ -101,13 +101,7 @@ def larger_shift_first(geometry):
     for an external pair)."""
     if geometry.internal or geometry.gear1.profile_shift >= geometry.gear2.profile_shift:
         return geometry
-    first, second = geometry.thickness_allowances
-    return dataclasses.replace(
-        geometry,
-        gear1=geometry.gear2,
-        gear2=geometry.gear1,
-        thickness_allowances=(second, first),
-    )
+    return gears_swapped(geometry)
 
 
 def rotated(items: list, repeat: int) -> list:

@@ -234,10 +234,8 @@ def unit_mean_curve(curve: tuple[float, ...]) -> np.ndarray:
     return values / mean
 
 
-def _pinion_first(geometry: MeshGeometry) -> MeshGeometry:
-    """An external pair with its smaller gear as gear 1 (ISO 6336's pinion)."""
-    if geometry.internal or geometry.gear1.teeth <= geometry.gear2.teeth:
-        return geometry
+def gears_swapped(geometry: MeshGeometry) -> MeshGeometry:
+    """The same pair with gears 1 and 2 (and their thickness allowances) exchanged."""
     first, second = geometry.thickness_allowances
     return dataclasses.replace(
         geometry,
@@ -245,6 +243,13 @@ def _pinion_first(geometry: MeshGeometry) -> MeshGeometry:
         gear2=geometry.gear1,
         thickness_allowances=(second, first),
     )
+
+
+def _pinion_first(geometry: MeshGeometry) -> MeshGeometry:
+    """An external pair with its smaller gear as gear 1 (ISO 6336's pinion)."""
+    if geometry.internal or geometry.gear1.teeth <= geometry.gear2.teeth:
+        return geometry
+    return gears_swapped(geometry)
 
 
 def with_mesh_law(case: Case, law: str) -> Case:
