@@ -243,8 +243,13 @@ def test_lin_parker_free_rotation_diverges_from_the_first_speed(study_case):
     rate = math.sqrt((rigid @ terms.centripetal @ rigid) / (rigid @ model.mass @ rigid))
     scale = math.sqrt(np.abs(values).max())  # omega_s
     expected = GROWTH_TOLERANCE * scale / rate / RPM  # rpm
-    # Rayleigh's quotient to 1e-5 at these speeds; bisection to 1e-9 of 500 rpm
-    assert campbell.unstable_start.values[0] == pytest.approx(expected, rel=1e-3)
+    # Rayleigh's quotient to 1e-5 at these speeds; bisection to 1e-9 of 500 rpm.  The
+    # free rotation is a double zero eigenvalue (a Jordan block) of the state matrix, so
+    # its computed eigenvalues carry round-off of order sqrt(eps) omega_s = 1.5e-8
+    # omega_s (Wilkinson), up to 0.15 of the 1e-7 omega_s threshold that fixes the onset:
+    # measured 1e-6 (Haswell) to 1.1e-3 (Prescott).  0.15 still catches a doubled K_Omega
+    # (onset / sqrt 2, 29 % off).
+    assert campbell.unstable_start.values[0] == pytest.approx(expected, rel=0.15)
 
 
 @pytest.mark.parametrize(
