@@ -247,7 +247,7 @@ def test_lin_parker_free_rotation_diverges_from_the_first_speed(study_case):
     # free rotation is a double zero eigenvalue (a Jordan block) of the state matrix, so
     # its computed eigenvalues carry round-off of order sqrt(eps) omega_s = 1.5e-8
     # omega_s (Wilkinson), up to 0.15 of the 1e-7 omega_s threshold that fixes the onset:
-    # measured 1e-6 (Haswell) to 1.1e-3 (Prescott).  0.15 still catches a doubled K_Omega
+    # within 1e-3 under Haswell, 1.1e-3 under Prescott.  0.15 still catches a doubled K_Omega
     # (onset / sqrt 2, 29 % off).
     assert campbell.unstable_start.values[0] == pytest.approx(expected, rel=0.15)
 
