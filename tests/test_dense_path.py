@@ -149,7 +149,10 @@ def test_automatic_choice_is_the_backward_stable_path_and_recorded(study_case, m
     reason = run.attrs["linear_solver_reason"]
     assert reason.startswith("automatic") and "18 DOFs" in reason
     assert "dense inverse would be faster" in reason
-    assert "band half-width 13" in reason
+    # the half-width itself (13 of 17 here) is counted from the assembled matrices'
+    # non-zeros, and a product that is exactly 0 on one BLAS core is 1e-20 on another
+    # (14 under Prescott): the reason must name it, not one core's count
+    assert "band half-width" in reason
 
 
 def test_automatic_choice_is_banded_for_a_long_narrow_band(monkeypatch):
