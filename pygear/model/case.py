@@ -22,6 +22,7 @@ from ..errors import CaseError
 from .components import ToothDefect, is_finite_number, plain_numbers, require_non_negative
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
+from .sensors import Sensor, validate_sensors
 from .transient_settings import Transient
 
 __all__ = [
@@ -181,6 +182,9 @@ class Case:
         One line for output files.
     defects : tuple of ToothDefect
         Tooth defects present in every scene (cracked or missing teeth).
+    sensors : tuple of Sensor
+        Accelerometers on the ring or housing of a planetary stage; a transient's
+        ``Probe("sensor", name)`` records one (docs/condition_monitoring.md).
     """
 
     name: str
@@ -190,11 +194,13 @@ class Case:
     scenes: tuple[Scene, ...] = (Scene("modal"),)
     description: str = ""
     defects: tuple = ()
+    sensors: tuple = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))
-        if isinstance(self.defects, list):
-            object.__setattr__(self, "defects", tuple(self.defects))
+        for name in ("defects", "sensors"):
+            if isinstance(getattr(self, name), list):
+                object.__setattr__(self, name, tuple(getattr(self, name)))
         plain_numbers(self)  # np.float32(0.4) is stored, hashed and computed as 0.4
         self.validate()
 
@@ -212,6 +218,7 @@ class Case:
         if len(set(names)) != len(names):
             raise CaseError(f"scenes: scene names must be unique (got {names})")
         validate_defects(self.gearbox, self.defects, "defects")
+        validate_sensors(self.sensors, {s.name: s for s in self.gearbox.stages})
         for scene in self.scenes:
             scene.validate(f"scenes.{scene.name}")
             validate_defects(self.gearbox, scene.defects, f"scenes.{scene.name}.defects")
@@ -222,6 +229,18 @@ class Case:
                 )
             if scene.parameters:
                 self.for_scene(scene)
+            self._check_sensor_probes(scene)
+
+    def _check_sensor_probes(self, scene: Scene) -> None:
+        if scene.transient is None:
+            return
+        names = [sensor.name for sensor in self.sensors]
+        for n, probe in enumerate(scene.transient.probes):
+            if probe.quantity == "sensor" and probe.target not in names:
+                raise CaseError(
+                    f"scenes.{scene.name}.transient.probes[{n}].target: {probe.target!r} is "
+                    f"not a sensor of the case (sensors: {', '.join(names) or 'none'})"
+                )
 
     def for_scene(self, scene: Scene) -> Case:
         """The case as ``scene`` sees it: its parameter changes applied and validated."""
@@ -392,7 +411,11 @@ def check_choice(
 def get_parameter(case: Case, path: str) -> object:
     """Value of a dotted parameter path such as ``planetary.sun_mesh.stiffness``."""
     parts = path.split(".")
-    target: object = _resolve_root(case, parts[0], path)
+    if parts[0] == "sensors":
+        target: object = _sensor(case, parts[1] if len(parts) > 2 else "", path)
+        parts = parts[1:]
+    else:
+        target = _resolve_root(case, parts[0], path)
     for part in parts if target is case else parts[1:]:
         if not dataclasses.is_dataclass(target) or not hasattr(target, part):
             raise CaseError(
@@ -408,10 +431,26 @@ def replace_parameter(case: Case, path: str, value: object) -> Case:
     get_parameter(case, path)
     if parts[0] in ("damping", "formulation", "name", "description"):
         return _replace_path(case, parts, value)
+    if parts[0] == "sensors":
+        sensors = tuple(
+            _replace_path(s, parts[2:], value) if s.name == parts[1] else s for s in case.sensors
+        )
+        return dataclasses.replace(case, sensors=sensors)
     stages = tuple(
         _replace_path(s, parts[1:], value) if s.name == parts[0] else s for s in case.gearbox.stages
     )
     return dataclasses.replace(case, gearbox=dataclasses.replace(case.gearbox, stages=stages))
+
+
+def _sensor(case: Case, name: str, path: str) -> Sensor:
+    for sensor in case.sensors:
+        if sensor.name == name:
+            return sensor
+    known = ", ".join(s.name for s in case.sensors) or "none"
+    raise CaseError(
+        f"parameter {path!r} must read sensors.<sensor>.<field> with a sensor of the case "
+        f"(sensors: {known})"
+    )
 
 
 def _resolve_root(case: Case, first: str, path: str) -> object:
@@ -447,7 +486,7 @@ def find_case_dir(reference: str | os.PathLike) -> Path:
         if os.environ.get("PYGEAR_CASES"):
             candidates.append(Path(os.environ["PYGEAR_CASES"]) / path)
         candidates.append(Path.cwd() / "cases" / path)
-        candidates.append(Path(__file__).resolve().parent.parent / "cases" / path)
+        candidates.append(Path(__file__).resolve().parents[2] / "cases" / path)
     for candidate in candidates:
         if (candidate / "case.py").is_file():
             return candidate.resolve()
