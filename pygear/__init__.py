@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     )
     from .model.gear_geometry import GearGeometry
     from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+    from .model.sensors import Sensor, StructuralMode
     from .model.transient_settings import Probe, TorqueLaw, Transient
 
 _SOURCES = {
@@ -49,6 +50,7 @@ _SOURCES = {
     ),
     ".model.gear_geometry": ("GearGeometry",),
     ".model.gearbox": ("Gearbox", "ParallelStage", "RigidLink", "ShaftInertia", "TorsionalSpring"),
+    ".model.sensors": ("Sensor", "StructuralMode"),
     ".model.transient_settings": ("Probe", "TorqueLaw", "Transient"),
 }
 _MODULE_OF = {name: module for module, names in _SOURCES.items() for name in names}
@@ -87,6 +89,8 @@ __all__ = [
     "Probe",
     "RayleighDamping",
     "Scene",
+    "Sensor",
+    "StructuralMode",
     "ToothDefect",
     "TorqueLaw",
     "Transient",

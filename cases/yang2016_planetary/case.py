@@ -5,6 +5,7 @@ The parameters are Lin & Parker's (1999) example; Table 1 prints them with a
 paper is marked ASSUMED with the reason.
 """
 
+import dataclasses
 import math
 
 from pygear import (
@@ -19,6 +20,8 @@ from pygear import (
     Probe,
     RayleighDamping,
     Scene,
+    Sensor,
+    StructuralMode,
     TorqueLaw,
     Transient,
 )
@@ -199,11 +202,45 @@ RUNUP_WIDE = Transient(
     mean_window=0.1,
 )
 
+# A radial accelerometer on the ring at the top (not in the paper; docs/condition_monitoring.md).
+# Each planet's ring-mesh force reaches it through a Hann window of the planet's angle
+# from the sensor (McFadden & Smith 1985) and the ring's bearing force directly.
+RING_SENSOR = Sensor(
+    name="ring_sensor",  # records ring_sensor_acceleration
+    stage="planetary",
+    angle_deg=90.0,  # at the top, +y
+    direction="radial",
+    window="hann",
+    # deg, ASSUMED: a planet is heard while it is on the half of the ring facing the
+    # sensor (wider than 360/3, so the windows do not sum to a constant: the pass of each
+    # planet modulates what the sensor hears, as on a real ring)
+    window_width_deg=180.0,
+    mesh_gain=1.0 / 2.35,  # (m/s^2)/N, ASSUMED: the rigid ring's mass, 2.35 kg (Table 1)
+    bearing_gain=1.0 / 2.35,  # (m/s^2)/N, ASSUMED: the same rigid ring
+    # ASSUMED: one ring-housing mode at 2.5 kHz with 5 % damping, as strong as the flat path
+    structure=(StructuralMode(frequency=2500.0, damping_ratio=0.05, gain=1.0),),
+)
+RUNUP_SENSOR = dataclasses.replace(
+    RUNUP,
+    probes=(
+        Probe("sensor", "ring_sensor", name="ring_sensor_acceleration"),
+        Probe("displacement", "planetary.carrier.theta_z"),  # angle for synchronous averages
+        Probe("displacement", "planetary.sun.theta_z"),
+        Probe("displacement", "planetary.planet1.theta_z"),  # spin relative to the carrier
+        Probe("speed", "planetary.carrier"),
+        Probe("speed", "planetary.sun"),
+        Probe("mesh_force", "ring-planet1"),
+        Probe("mesh_force", "ring-planet2"),
+        Probe("mesh_force", "ring-planet3"),
+    ),
+)
+
 case = Case(
     name="yang2016_planetary",
     description="Planetary study case of Yang, Jiang & Han (2016), Table 1",
     gearbox=Gearbox(stages=(stage,)),
     formulation="improved",  # the seed's own model; scenes name the others
+    sensors=(RING_SENSOR,),
     # ASSUMED: the paper's Rayleigh coefficients were lost; alpha = 0.13 1/s reproduces
     # its Table 3 with the load law of docs/model.md §6.3, beta = 1e-6 s (§3.7)
     damping=RayleighDamping(mass_coefficient=MASS_DAMPING, stiffness_coefficient=1e-6),
@@ -247,6 +284,15 @@ case = Case(
             dof_set="planar",
             effects=("time_varying_mesh_stiffness",),
             transient=RUNUP_WIDE,
+        ),
+        # the run-up as an accelerometer on the ring records it
+        Scene(
+            "runup_sensor",
+            analyses=("transient",),
+            formulation="improved",
+            dof_set="planar",
+            effects=("time_varying_mesh_stiffness",),
+            transient=RUNUP_SENSOR,
         ),
         Scene(
             "torque_reversal",

@@ -35,7 +35,7 @@ from ..kernel.newmark import (
 from ..kernel.probes import RPM_PER_RAD_S, compile_probes, state_probes
 from ..model.case import Case, Scene
 from ..model.components import PlanetaryStage
-from ..model.transient_settings import TorqueLaw, Transient
+from ..model.transient_settings import Probe, TorqueLaw, Transient
 from .transient_checks import (
     check_static_deflection,
     check_transient_memory,
@@ -71,6 +71,8 @@ class TransientProblem:
     effects: tuple[str, ...]
     drive_sign: int = 1  # -1: input member and drive law mirrored in the kernel
     static_deflection: np.ndarray | None = None  # per mesh, under the peak drive [m]
+    sensors: tuple = ()  # SensorPlan per sensor probe (pygear.analysis.sensor_signal)
+    initial_velocity: np.ndarray | None = None  # reduced DOFs at t = 0, None: at rest
 
 
 def _default_member(case: Case, member: str) -> str:
@@ -236,7 +238,7 @@ def transient_problem(
             names=[mesh.name for mesh in model.meshes],
             backlash=backlash,
         )
-    probes = compile_probes(model, settings.probes, f"{path}.probes")
+    probes, sensors = _compile_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
     check_transient_memory(settings, len(probes), path)
@@ -263,7 +265,7 @@ def transient_problem(
         deflection_limit=settings.deflection_limit,
         labels=model.dof_labels,
     )
-    return TransientProblem(
+    problem = TransientProblem(
         case,
         scene,
         settings,
@@ -277,7 +279,28 @@ def transient_problem(
         effects,
         drive_sign=direction,
         static_deflection=static,
+        sensors=sensors,
     )
+    problem.initial_velocity = initial_velocity(problem)
+    return problem
+
+
+def _compile_probes(
+    case: Case, model: Model, probes: tuple[Probe, ...], path: str
+) -> tuple[list[KernelProbe], tuple]:
+    """Kernel channels of the probes, sensors replaced by the channels they read."""
+    compiled: list[KernelProbe] = []
+    sensors = []
+    for k, probe in enumerate(probes):
+        if probe.quantity == "sensor":
+            from .sensor_signal import sensor_plan
+
+            plan, channels = sensor_plan(case, model, probe, k, f"{path}[{k}]")
+            sensors.append(plan)
+            compiled += channels
+        else:
+            compiled += compile_probes(model, (probe,), path)
+    return compiled, tuple(sensors)
 
 
 def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
@@ -332,6 +355,7 @@ def run_transient(
         result = problem.solver.run(
             settings.steps,
             problem.probes,
+            v0=problem.initial_velocity,
             decimation=settings.decimation,
             window_steps=int(round(settings.mean_window / settings.time_step)),
             progress=progress,
@@ -348,6 +372,23 @@ def run_transient(
     dataset = _dataset(problem, result)
     dataset.attrs["wall_s"] = time.perf_counter() - started
     return dataset
+
+
+def initial_velocity(problem: TransientProblem) -> np.ndarray | None:
+    """The rigid-body rotation at ``initial_speed_rpm`` of the input member, or None
+    (from rest)."""
+    speed = problem.settings.initial_speed_rpm / RPM_PER_RAD_S
+    if speed == 0.0:
+        return None
+    rigid = rigid_rotation(problem.model)
+    path = f"scenes.{problem.scene.name}.transient.initial_speed_rpm"
+    input_speed = dof_row(problem.model, problem.input_label) @ rigid if rigid is not None else 0
+    if rigid is None or abs(input_speed) < 1e-9 * np.abs(rigid).max():
+        raise CaseError(
+            f"{path}: the model has no single free rigid-body rotation that turns the input "
+            f"member {problem.input_label!r}, so there is no steady rotation to start on"
+        )
+    return rigid * (speed / input_speed)
 
 
 def checkpoint_identity(problem: TransientProblem) -> str:
@@ -379,13 +420,23 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
     time_attrs = {"units": "s", "long_name": "time", "standard_name": "time"}
     data_vars = {}
     state = {}
+    auxiliary = {}
     for probe, values in zip(problem.probes, result.samples):
-        if probe.name.startswith("__"):
+        if problem.sensors and probe.name.startswith("_sensor_"):
+            auxiliary[probe.name] = values
+        elif probe.name.startswith("__"):
             state.setdefault(probe.kind, []).append(values)
         else:
             if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
                 values = problem.drive_sign * values
             data_vars[probe.name] = (("time",), values, probe.attrs)
+    if problem.sensors:
+        from .sensor_signal import sensor_signal
+
+        rate = 1.0 / (settings.decimation * settings.time_step)
+        for plan in problem.sensors:
+            values, attrs = sensor_signal(plan, auxiliary, rate)
+            data_vars[plan.variable] = (("time",), values, attrs)
     units = {
         "displacement": "m or rad",
         "velocity": "m/s or rad/s",

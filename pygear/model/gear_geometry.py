@@ -34,6 +34,7 @@ __all__ = [
     "root_radius",
     "root_form_radius",
     "transverse_base_pitch",
+    "base_half_thickness",
     "tip_thickness",
     "undercut_limit_shift",
     "working_pressure_angle",
@@ -307,6 +308,16 @@ def _half_angle(gear: GearGeometry, radius: float, allowance: float = 0.0) -> fl
     if gear.internal:
         width = math.pi * transverse_module(gear) - width  # the ring's space width
     return width / (2.0 * r) + involute(transverse_pressure_angle(gear)) - involute(alpha_y)
+
+
+def base_half_thickness(gear: GearGeometry) -> float:
+    """Half the chordal thickness of an external tooth at its base circle,
+    r_b sin(s_b / (2 r_b)) [m]: where the tooth of the potential-energy model meets its
+    body, the reference for a root crack's depth."""
+    if gear.internal:
+        raise ValueError("base_half_thickness: an internal gear's tooth meets its rim elsewhere")
+    radius = base_radius(gear)
+    return radius * math.sin(_half_angle(gear, radius))
 
 
 def tip_thickness(gear: GearGeometry) -> float:

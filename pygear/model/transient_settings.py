@@ -56,6 +56,7 @@ PROBE_QUANTITIES = {
     "bearing_force": "a bearing spring, e.g. planetary.ring_bearing.y",
     "drive_torque": "nothing (the input member's drive)",
     "load_torque": "nothing (the output member's load)",
+    "sensor": "a sensor of the case, e.g. ring_sensor (its acceleration in m/s^2)",
 }
 """Quantities a probe can keep, and what its target names."""
 
@@ -236,6 +237,8 @@ class Probe:
         """The NetCDF variable name."""
         if self.name:
             return self.name
+        if self.quantity == "sensor":
+            return f"{self.target}_acceleration"
         target = self.target.replace(".", "_").replace("-", "_")
         return f"{target}_{self.quantity}" if target else self.quantity
 
@@ -324,6 +327,10 @@ class Transient:
         A mesh deflection beyond this stops the run as diverged [m].
     contact_sign : tuple of int, optional
         s_m per mesh (+1 or -1); default from a static solution under the drive.
+    initial_speed_rpm : float
+        Speed of the input member at t = 0 [rpm], signed like its DOF; every member
+        starts on the rigid-body rotation at that speed (steady operation without a
+        run-up from rest).  0: from rest.
     """
 
     duration: float
@@ -346,6 +353,7 @@ class Transient:
     mean_window: float = 1.0
     deflection_limit: float = 1e-3
     contact_sign: tuple[int, ...] | None = None
+    initial_speed_rpm: float = 0.0
 
     def __post_init__(self) -> None:
         if isinstance(self.probes, list):
@@ -455,6 +463,11 @@ class Transient:
             raise CaseError(f"{path}.probes: variable names must be unique ({duplicates})")
         if self.contact_sign is not None and any(s not in (1, -1) for s in self.contact_sign):
             raise CaseError(f"{path}.contact_sign entries must be +1 or -1")
+        if not _is_finite(self.initial_speed_rpm):
+            raise CaseError(
+                f"{path}.initial_speed_rpm must be a finite speed in rpm "
+                f"(got {self.initial_speed_rpm!r})"
+            )
 
     def describe(self) -> str:
         """One line for logs."""
