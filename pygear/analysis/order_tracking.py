@@ -36,9 +36,10 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
+from .angle_resampling import crossing_times
 from .order_plan import CHANNEL_PAD, OrderPlan, plan_order_tracking
 from .order_references import stored_mesh_orders
-from .signal import SignalError, _fft_options, _one_sided_amplitude
+from .signal import _fft_options, _one_sided_amplitude
 
 __all__ = [
     "OrderPlan",
@@ -52,47 +53,7 @@ __all__ = [
     "track_orders",
 ]
 
-_NEWTON_ITERATIONS = 30
-CROSSING_BLOCK = 1 << 16
-"""Angle steps whose crossing times are solved together."""
-
-
 # --------------------------------------------------------------------------- resampling
-
-
-def _crossing_times(
-    time: np.ndarray, angle: np.ndarray, speed: np.ndarray, targets: np.ndarray
-) -> np.ndarray:
-    """Times at which the cubic Hermite interpolant of angle(time), slopes ``speed``,
-    passes ``targets`` (all within the angle's range; angle strictly increasing)."""
-    last = angle.size - 2
-    interval = np.clip(np.searchsorted(angle, targets, side="right") - 1, 0, last)
-    t0, step = time[interval], time[interval + 1] - time[interval]
-    a0, a1 = angle[interval], angle[interval + 1]
-    slope0, slope1 = speed[interval] * step, speed[interval + 1] * step
-    s = np.clip((targets - a0) / (a1 - a0), 0.0, 1.0)  # the chord's crossing
-    tolerance = 1e-14 * max(1.0, float(np.max(np.abs(angle))))
-    for _ in range(_NEWTON_ITERATIONS):
-        s2, s3 = s * s, s * s * s
-        value = (
-            a0 * (2 * s3 - 3 * s2 + 1)
-            + slope0 * (s3 - 2 * s2 + s)
-            + a1 * (3 * s2 - 2 * s3)
-            + slope1 * (s3 - s2)
-        )
-        derivative = (
-            (a0 - a1) * (6 * s2 - 6 * s) + slope0 * (3 * s2 - 4 * s + 1) + slope1 * (3 * s2 - 2 * s)
-        )
-        residual = value - targets
-        if np.max(np.abs(residual)) <= tolerance:
-            break
-        if np.any(derivative <= 0.0):
-            raise SignalError(
-                "the reference angle is not increasing between two samples (speed and angle "
-                "channels disagree); order tracking needs an increasing angle"
-            )
-        s = np.clip(s - residual / derivative, 0.0, 1.0)
-    return t0 + s * step
 
 
 def resample_to_angle(plan: OrderPlan, run: xr.Dataset) -> xr.DataArray:
@@ -120,12 +81,7 @@ def resample_to_angle(plan: OrderPlan, run: xr.Dataset) -> xr.DataArray:
     last = math.floor(angle[-1] / (2 * math.pi) * spr + 1e-9)
     revolutions = np.arange(first, last + 1) / spr
     targets = revolutions * 2 * math.pi
-    crossing = np.concatenate(  # in blocks: the Newton temporaries stay small
-        [
-            _crossing_times(time, angle, speed, targets[block : block + CROSSING_BLOCK])
-            for block in range(0, targets.size, CROSSING_BLOCK)
-        ]
-    )
+    crossing = crossing_times(time, angle, speed, targets)  # in blocks: bounded memory
     signal = run[plan.channel]
     padded = slice(start - CHANNEL_PAD, stop + CHANNEL_PAD)
     values = np.asarray(signal.values[padded], dtype=float)  # finite: checked by the plan
