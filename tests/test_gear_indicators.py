@@ -289,7 +289,7 @@ def test_dataset_wrapper_over_channels_with_a_trend() -> None:
     # a doubled record against that history: mean variance (v + 4v)/2 = 2.5 v, 4th
     # moment 16 m4, so NB4 = 16 * 1.5 / 2.5^2 = 3.84
     doubled = gi.gear_indicators_dataset(
-        2.0 * tsa.assign_attrs(units="m/s^2"), mesh, history=[first]
+        (2.0 * tsa).assign_attrs(units="m/s^2"), mesh, history=[first]
     )
     np.testing.assert_allclose(doubled["nb4"], 16.0 * 1.5 / 2.5**2, rtol=ROUND_OFF)
 
