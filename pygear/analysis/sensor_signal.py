@@ -63,6 +63,7 @@ class SensorPlan:
     mesh_channels: tuple[str, ...]
     bearing_channels: tuple[str, str] | None
     window_width: float  # [rad]
+    teeth: tuple[int, int, int]  # sun, planet, ring (0: not given)
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -188,6 +189,7 @@ def sensor_plan(
         mesh_channels=meshes,
         bearing_channels=bearing,
         window_width=sensor.width_rad(stage.planets),
+        teeth=tuple(int(stage.gear_teeth(m) or 0) for m in ("sun", "planet1", "ring")),
     )
     return plan, kernel
 
@@ -229,5 +231,8 @@ def sensor_signal(
         "sensor_structure_modes": len(sensor.structure),
         "sensor_noise_snr_db": "none" if sensor.noise_snr_db is None else sensor.noise_snr_db,
         "sensor_noise_seed": int(sensor.noise_seed),
+        # what a gear's synchronous average needs, so that reading the file is enough
+        "sensor_planet_angles_deg": [math.degrees(a) for a in plan.planet_angles],
+        "sensor_teeth_sun_planet_ring": list(plan.teeth),
     }
     return recorded, attrs

@@ -14,11 +14,11 @@ import threading
 from collections.abc import Iterator
 
 from ..errors import CaseError
-from . import accuracy, batch, campbell, modal, run
+from . import accuracy, batch, campbell, condition, modal, run
 
 __all__ = ["build_parser", "main"]
 
-_FAMILIES = (run, modal, campbell, batch, accuracy)
+_FAMILIES = (run, modal, campbell, batch, accuracy, condition)
 """Command families, in the order their subcommands are listed."""
 
 _USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal", "SignalError"))
@@ -26,7 +26,7 @@ _USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal
 instance of a class whose module is loaded, so these are looked up, never imported."""
 
 
-_DASK_COMMANDS = frozenset({"batch", "sweep", "accuracy"})
+_DASK_COMMANDS = frozenset({"batch", "sweep", "accuracy", "dataset"})
 """Commands that compute on Dask; every other command, run as a process of its own,
 runs with Dask hidden (:func:`_dask_hidden`)."""
 

@@ -89,6 +89,21 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         help="--orders: highest order kept (default: the highest the time sampling resolves)",
     )
     analyze.add_argument(
+        "--tsa",
+        metavar="GEAR",
+        help="synchronous average of GEAR (sun, ring, planet<n>) in a sensor channel, "
+        "McFadden's windowed averages for the sun and the planets: RUN_tsa_<gear>.nc and .png",
+    )
+    analyze.add_argument(
+        "--indicators",
+        action="store_true",
+        help="--tsa: also FM0, FM4, NA4, NB4, M6A, M8A, ER, SLF, kurtosis, crest factor and "
+        "the sensor's kurtogram (best band)",
+    )
+    analyze.add_argument(
+        "--no-figures", action="store_true", help="--tsa: write the NetCDF file only"
+    )
+    analyze.add_argument(
         "--window-revolutions",
         type=float,
         default=1.0,
@@ -124,6 +139,12 @@ def _analyze(args: argparse.Namespace) -> int:
         from .orders import analyze_orders
 
         return analyze_orders(args)
+    if args.tsa is not None:
+        from .condition import analyze_tsa
+
+        return analyze_tsa(args)
+    if args.indicators:
+        raise CaseError("--indicators: name the gear to average with --tsa GEAR")
     if not args.run.is_file():
         raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):

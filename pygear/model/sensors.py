@@ -87,10 +87,11 @@ class Sensor:
         F cos(alpha_r), alpha_r the ring mesh's pressure angle.
     window : str
         Shape of the path's angular window, ``hann`` or ``rectangular``.
-    window_width_deg : float
+    window_width_deg : float or None
         Width of the window [deg]: a planet is heard while its angle from the sensor lies
-        within half of it either side.  360/N for N planets makes equally spaced Hann
-        windows sum to one (McFadden 1994).
+        within half of it either side.  None: 720/N for N planets, the width at which the
+        Hann windows of equally spaced planets, 360/N apart, add up to one (a rectangular
+        window does at 360/N): the sensor then hears no planet pass.
     mesh_gain : float
         Gain of the ring-mesh path at the window's centre [(m/s^2)/N]: the acceleration per
         newton of force into the ring, before the structure's modes.
@@ -147,7 +148,7 @@ class Sensor:
         if width is not None and (not is_finite_number(width) or not 0 < width <= 360):
             raise CaseError(
                 f"{path}.window_width_deg must lie in (0, 360] degrees or be None "
-                f"(360/N for N planets; got {width!r})"
+                f"(None: 720/N for N planets; got {width!r})"
             )
         for name in ("mesh_gain", "bearing_gain"):
             if not is_finite_number(getattr(self, name)):
@@ -173,9 +174,9 @@ class Sensor:
             )
 
     def width_rad(self, planets: int) -> float:
-        """The window's width [rad]: the given one, or 2 pi / planets."""
+        """The window's width [rad]: the given one, or 4 pi / planets."""
         if self.window_width_deg is None:
-            return 2 * math.pi / planets
+            return 4 * math.pi / planets
         return math.radians(self.window_width_deg)
 
 

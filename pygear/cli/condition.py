@@ -1,0 +1,161 @@
+"""``pygear dataset`` (labelled fault datasets) and ``pygear analyze RUN.nc --tsa GEAR``
+(a gear's synchronous average, its condition indicators and the sensor's kurtogram).
+
+The run file is read as data: the sensor channel's attributes hold the sensor, the
+planets' positions and the tooth counts, so no case file runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..errors import CaseError
+
+__all__ = ["HANDLERS", "add_parsers", "analyze_tsa"]
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``dataset`` subcommand."""
+    dataset = commands.add_parser(
+        "dataset",
+        help="labelled fault dataset: fault severities x speeds x loads x noise seeds (Dask)",
+        description="One record per run, record_<hash>.nc, named by the hash of its inputs: "
+        "a rerun or a larger grid into the same --out reuses every record already there.  "
+        "All records are combined into dataset_<hash>.nc with a data card dataset_<hash>.md.  "
+        "Exit code 0 when every record ran, 1 when some failed, 2 for bad input.",
+    )
+    dataset.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    dataset.add_argument(
+        "--faults",
+        required=True,
+        metavar="KIND=VALUES",
+        help="crack_depth, stiffness_factor or chipped_fraction = START:STOP:COUNT or a list, "
+        "e.g. crack_depth=0:0.5:6",
+    )
+    dataset.add_argument("--gear", help="faulty gear, e.g. planetary.planet1 (default: the sun)")
+    dataset.add_argument("--tooth", type=int, default=0, help="faulty tooth (0-based, default 0)")
+    dataset.add_argument("--speeds", required=True, help="carrier speeds [rpm], e.g. 60,120")
+    dataset.add_argument("--loads", required=True, help="carrier torques [N m], e.g. 250,500")
+    dataset.add_argument("--seeds", type=int, default=1, help="noise seeds per point (default 1)")
+    dataset.add_argument(
+        "--snr", type=float, default=20.0, help="sensor noise [dB SNR] (default 20)"
+    )
+    dataset.add_argument("--scene", help="scene with a sensor (default: the first)")
+    dataset.add_argument("--duration", type=float, help="override the scene's duration [s]")
+    dataset.add_argument("--out", type=Path, help="directory (default: out/<case>/dataset)")
+    dataset.add_argument("--workers", type=int, default=2, help="local Dask workers (default 2)")
+    dataset.add_argument("--scheduler", metavar="ADDRESS", help="use a running Dask scheduler")
+    dataset.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
+
+
+def _dataset(args: argparse.Namespace) -> int:
+    from ..runs.fault_dataset import plan_dataset, run_dataset
+    from ..runs.json_output import json_text
+
+    if args.duration is not None and not args.duration > 0:
+        raise CaseError(f"--duration must be a positive time in s (got {args.duration!r})")
+    if args.workers < 1:
+        raise CaseError(f"--workers must be >= 1 (got {args.workers})")
+    plan = plan_dataset(
+        args.case,
+        args.faults,
+        speeds=args.speeds,
+        loads=args.loads,
+        seeds=args.seeds,
+        gear=args.gear,
+        tooth=args.tooth,
+        scene=args.scene,
+        snr_db=args.snr,
+        duration=args.duration,
+    )
+    out = args.out or Path("out") / plan.case.name / "dataset"
+    result = run_dataset(
+        plan, out, workers=args.workers, scheduler=args.scheduler, progress=not args.json
+    )
+    if args.json:
+        keys = ("records", "records_computed", "records_reused", "records_failed", "path")
+        print(json_text({key: result.attrs[key] for key in keys}))
+    return 1 if result.attrs["records_failed"] else 0
+
+
+def analyze_tsa(args: argparse.Namespace) -> int:
+    """Handler of ``pygear analyze RUN.nc --tsa GEAR [--indicators] [--json]``."""
+    import xarray as xr
+
+    from ..analysis.gear_average import gear_average, gear_indicator_values
+    from ..analysis.spectral_kurtosis import fast_kurtogram
+    from ..io import write_netcdf
+    from ..runs.json_output import json_text
+
+    if not args.run.is_file():
+        raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
+    try:
+        with xr.open_dataset(args.run) as opened:
+            run = opened.load()
+    except (OSError, ValueError) as error:
+        raise CaseError(f"RUN.nc {str(args.run)!r} is not a NetCDF file ({error})") from None
+    channel = args.channel or next(
+        (n for n, v in run.data_vars.items() if v.attrs.get("quantity") == "sensor"), None
+    )
+    if channel is None:
+        raise CaseError(f"RUN.nc {str(args.run)!r} holds no sensor channel for --tsa")
+    after = 0.5 if args.after is None else args.after
+    if not 0 <= after < float(run.time[-1]):
+        raise CaseError(
+            f"--after {after!r} s must lie within the run (0 .. {float(run.time[-1]):g} s)"
+        )
+    late = run.sel(time=slice(after, None))
+    average = gear_average(late, args.tsa, channel)
+    gear = average.attrs["gear"]
+    stem = args.out or args.run.with_name(f"{args.run.stem}_tsa_{gear.replace('.', '_')}")
+    summary: dict = {"gear": gear, "channel": channel, "revolutions": average.attrs["revolutions"]}
+    result = xr.Dataset({"gear_average": average.drop_vars("weight_sum", errors="ignore")})
+    if args.indicators:
+        indicators = gear_indicator_values(average)
+        summary["indicators"] = indicators
+        rate = 1.0 / float(run.time[1] - run.time[0])
+        kurtogram, best = fast_kurtogram(late[channel].values, rate)
+        summary["kurtogram"] = {
+            "centre_frequency_hz": best.centre_frequency,
+            "bandwidth_hz": best.bandwidth,
+            "level": best.level,
+            "kurtosis": best.kurtosis,
+        }
+        for name, value in indicators.items():
+            result[name] = ((), value, {"long_name": f"{name} of the gear average"})
+    path = write_netcdf(
+        result, stem.with_suffix(".nc"), title=f"Synchronous average of {gear} in {channel}"
+    )
+    files = [str(path)]
+    if not args.no_figures:
+        files += _figures(average, stem, summary)
+    summary["files"] = files
+    if args.json:
+        print(json_text(summary))
+        return 0
+    print(f"synchronous average of {gear} in {channel}: {average.attrs['revolutions']} revolutions")
+    for name, value in summary.get("indicators", {}).items():
+        print(f"  {name:24s} {value:.6g}")
+    if "kurtogram" in summary:
+        band = summary["kurtogram"]
+        print(
+            f"  kurtogram best band      {band['centre_frequency_hz']:.6g} Hz "
+            f"+- {band['bandwidth_hz'] / 2:.6g} Hz (level {band['level']:g})"
+        )
+    print("wrote " + ", ".join(files))
+    return 0
+
+
+def _figures(average, stem: Path, summary: dict) -> list[str]:
+    from ..io import atomic_path
+    from ..plots.condition_monitoring import plot_gear_average
+
+    figure = plot_gear_average(average, title=f"{summary['gear']} in {summary['channel']}")
+    path = stem.with_suffix(".png")
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=110)
+    return [str(path)]
+
+
+HANDLERS = {"dataset": _dataset}
