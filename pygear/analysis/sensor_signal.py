@@ -41,6 +41,7 @@ from ..model.transient_settings import Probe
 __all__ = [
     "SensorPlan",
     "add_noise",
+    "sensor_carrier_orders",
     "sensor_plan",
     "sensor_signal",
     "structural_response",
@@ -236,3 +237,54 @@ def sensor_signal(
         "sensor_teeth_sun_planet_ring": list(plan.teeth),
     }
     return recorded, attrs
+
+
+def sensor_carrier_orders(
+    run, channel: str, revolutions: int | None = None, steps_per_revolution: int = 4096
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """Amplitude of a sensor channel at whole carrier orders over the run's last whole
+    carrier revolutions (resampled at uniform carrier angle).
+
+    Parameters
+    ----------
+    run : xarray.Dataset
+        A run with the sensor channel and its stage's carrier angle channel
+        (``<stage>_carrier_theta_z_displacement``).
+    channel : str
+        The sensor channel.
+    revolutions : int, optional
+        Revolutions analysed (default: every whole one in the second half of the run).
+    steps_per_revolution : int
+        Angle steps per revolution (orders up to half of it).
+
+    Returns
+    -------
+    orders, amplitude, revolutions
+        Whole orders 0 .. steps/2, their one-sided amplitudes [the channel's unit] and
+        the number of revolutions used.
+    """
+    from .angle_resampling import crossing_times, local_cubic, monotone_slopes
+
+    stage = run[channel].attrs["sensor_stage"]
+    name = f"{stage}_carrier_theta_z_displacement"
+    if name not in run:
+        raise CaseError(f"the run has no carrier angle {name!r} for the sensor's carrier orders")
+    time = run.time.values
+    angle = run[name].values * (1.0 if run[name].values[-1] >= run[name].values[0] else -1.0)
+    turns = (angle[-1] - angle[0]) / (2 * math.pi)
+    available = int(math.floor(turns / 2)) if revolutions is None else int(revolutions)
+    if available < 1 or available > turns:
+        raise CaseError(
+            f"{channel}: the run covers {turns:.3g} carrier revolutions; "
+            "its carrier orders need at least 2"
+        )
+    end = math.floor(angle[-1] / (2 * math.pi)) * 2 * math.pi
+    targets = end - 2 * math.pi * (
+        available - np.arange(available * steps_per_revolution) / steps_per_revolution
+    )
+    crossings = crossing_times(time, angle, monotone_slopes(time, angle), targets)
+    resampled = local_cubic(time, run[channel].values, crossings)
+    spectrum = np.abs(np.fft.rfft(resampled)) / resampled.size * 2
+    amplitude = spectrum[::available]
+    amplitude[0] /= 2  # the mean
+    return np.arange(amplitude.size), amplitude, available

@@ -223,7 +223,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..runs.json_output import json_text
     from ..runs.outputs import write_modal_outputs, write_run_signals
     from ..runs.scene_checks import check_scenes
-    from ..runs.transient_outputs import write_speed_figure
+    from ..runs.transient_outputs import write_sensor_figures, write_speed_figure
 
     figures = not args.no_figures
 
@@ -272,6 +272,8 @@ def _run(args: argparse.Namespace) -> int:
             speeds = out / f"{scene.name}_speeds.png"
             if figures and write_speed_figure(dataset, speeds) is not None:
                 entry["files"].append(str(speeds))  # drawn once every file of the scene is
+            if figures:
+                entry["files"] += [str(p) for p in write_sensor_figures(dataset, out, scene.name)]
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
         if not args.json:

@@ -88,7 +88,7 @@ def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path, figure
     NetCDF files first, the figures after them."""
     from ..analysis.transient import transient_summary
     from .outputs import write_run_signals
-    from .transient_outputs import write_speed_figure, write_transient
+    from .transient_outputs import write_sensor_figures, write_speed_figure, write_transient
 
     with task_files():
         dataset, files = write_transient(case, scene, out, model=model, figure=False)
@@ -98,6 +98,7 @@ def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path, figure
         if figures:
             speeds = write_speed_figure(dataset, out / f"{scene.name}_speeds.png")
             files += [speeds] if speeds is not None else []
+            files += write_sensor_figures(dataset, out, scene.name)
     summary = transient_summary(dataset)
     return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
 

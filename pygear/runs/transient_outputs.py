@@ -8,11 +8,13 @@ import signal
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
 from ..analysis.transient import run_transient, transient_problem
 from ..analysis.transient_checks import check_transient_disk
 from ..assembly.matrices import Model
+from ..errors import CaseError
 from ..io import WriteInterrupted, atomic_path, signals_interrupt, write_netcdf
 from ..kernel.newmark import TransientInterrupted
 from ..model.case import Case, Scene
@@ -79,6 +81,7 @@ def write_transient(
             if figure:
                 speeds = write_speed_figure(dataset, directory / f"{scene.name}_speeds.png")
                 written += [speeds] if speeds is not None else []
+                written += write_sensor_figures(dataset, directory, scene.name)
         except WriteInterrupted as interrupt:
             raise TransientInterrupted(
                 _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
@@ -98,6 +101,41 @@ def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     with atomic_path(target) as temporary:
         plot_speeds([dataset], temporary, format="png")
     return target
+
+
+def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> list[Path]:
+    """Each sensor channel's carrier-order spectrum around the first two mesh harmonics,
+    sidebands labelled (``<scene>_<channel>_orders.png``); none for a run shorter than
+    two carrier revolutions or without the carrier's angle."""
+    from ..analysis.sensor_signal import sensor_carrier_orders
+
+    written = []
+    for name, variable in dataset.data_vars.items():
+        if variable.attrs.get("quantity") != "sensor":
+            continue
+        try:
+            orders, amplitude, revolutions = sensor_carrier_orders(dataset, name)
+        except CaseError:
+            continue
+        from ..plots.condition_monitoring import plot_sensor_orders
+
+        ring = int(np.atleast_1d(variable.attrs["sensor_teeth_sun_planet_ring"])[2])
+        planets = len(np.atleast_1d(variable.attrs["sensor_planet_angles_deg"]))
+        if ring < 1 or 2 * ring + 10 >= orders.size:
+            continue
+        figure = plot_sensor_orders(
+            orders,
+            amplitude,
+            ring_teeth=ring,
+            planets=planets,
+            title=f"{dataset.attrs.get('case', '')} / {scene}: {name}, "
+            f"last {revolutions} carrier revolutions",
+        )
+        target = directory / f"{scene}_{name}_orders.png"
+        with atomic_path(target) as temporary:
+            figure.savefig(temporary, format="png", dpi=110)
+        written.append(target)
+    return written
 
 
 def _interrupted_writing(interrupt, stage: str, path: Path | None, checkpoint) -> str:
