@@ -41,6 +41,7 @@ from ..model.transient_settings import Probe
 __all__ = [
     "SensorPlan",
     "add_noise",
+    "compile_scene_probes",
     "sensor_carrier_orders",
     "sensor_plan",
     "sensor_signal",
@@ -193,6 +194,23 @@ def sensor_plan(
         teeth=tuple(int(stage.gear_teeth(m) or 0) for m in ("sun", "planet1", "ring")),
     )
     return plan, kernel
+
+
+def compile_scene_probes(
+    case: Case, model: Model, probes: tuple[Probe, ...], path: str
+) -> tuple[list[KernelProbe], tuple]:
+    """Kernel channels of a scene's probes, each sensor replaced by the channels it reads,
+    and the sensors' plans (in probe order)."""
+    compiled: list[KernelProbe] = []
+    sensors = []
+    for k, probe in enumerate(probes):
+        if probe.quantity == "sensor":
+            plan, channels = sensor_plan(case, model, probe, k, f"{path}[{k}]")
+            sensors.append(plan)
+            compiled += channels
+        else:
+            compiled += compile_probes(model, (probe,), path)
+    return compiled, tuple(sensors)
 
 
 def sensor_signal(

@@ -32,10 +32,11 @@ from ..kernel.newmark import (
     RunResult,
     TransientError,
 )
-from ..kernel.probes import RPM_PER_RAD_S, compile_probes, state_probes
-from ..model.case import Case, Scene
+from ..kernel.probes import RPM_PER_RAD_S, state_probes
+from ..model.case import Case, Scene, defects_json
 from ..model.components import PlanetaryStage
-from ..model.transient_settings import Probe, TorqueLaw, Transient
+from ..model.transient_settings import TorqueLaw, Transient
+from .sensor_signal import compile_scene_probes
 from .transient_checks import (
     check_static_deflection,
     check_transient_memory,
@@ -238,7 +239,7 @@ def transient_problem(
             names=[mesh.name for mesh in model.meshes],
             backlash=backlash,
         )
-    probes, sensors = _compile_probes(case, model, settings.probes, f"{path}.probes")
+    probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
     check_transient_memory(settings, len(probes), path)
@@ -283,24 +284,6 @@ def transient_problem(
     )
     problem.initial_velocity = initial_velocity(problem)
     return problem
-
-
-def _compile_probes(
-    case: Case, model: Model, probes: tuple[Probe, ...], path: str
-) -> tuple[list[KernelProbe], tuple]:
-    """Kernel channels of the probes, sensors replaced by the channels they read."""
-    compiled: list[KernelProbe] = []
-    sensors = []
-    for k, probe in enumerate(probes):
-        if probe.quantity == "sensor":
-            from .sensor_signal import sensor_plan
-
-            plan, channels = sensor_plan(case, model, probe, k, f"{path}[{k}]")
-            sensors.append(plan)
-            compiled += channels
-        else:
-            compiled += compile_probes(model, (probe,), path)
-    return compiled, tuple(sensors)
 
 
 def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
@@ -431,7 +414,7 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
                 values = problem.drive_sign * values
             data_vars[probe.name] = (("time",), values, probe.attrs)
     if problem.sensors:
-        from .sensor_signal import sensor_signal
+        from .sensor_signal import sensor_signal  # noqa: I001  (compile_scene_probes above)
 
         rate = 1.0 / (settings.decimation * settings.time_step)
         for plan in problem.sensors:
@@ -515,6 +498,7 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         **{f"solver_{k}": v for k, v in result.counters.items()},
         **effect_attributes(model, solver.equivalent_load),  # pygear.assembly.effects
     }
+    attrs["tooth_defects"] = defects_json(problem.case, problem.scene)
     ring = _first_ring_teeth(problem.case)
     if ring and "carrier" in table["speed_rpm"]:
         attrs["mesh_frequency_hz"] = ring * table["speed_rpm"]["carrier"] / 60.0

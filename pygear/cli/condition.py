@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..errors import CaseError
 
-__all__ = ["HANDLERS", "add_parsers", "analyze_tsa"]
+__all__ = ["HANDLERS", "add_parsers", "analyze_tsa", "damaged_teeth"]
 
 
 def add_parsers(commands: argparse._SubParsersAction) -> None:
@@ -46,6 +46,9 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     dataset.add_argument("--out", type=Path, help="directory (default: out/<case>/dataset)")
     dataset.add_argument("--workers", type=int, default=2, help="local Dask workers (default 2)")
     dataset.add_argument("--scheduler", metavar="ADDRESS", help="use a running Dask scheduler")
+    dataset.add_argument(
+        "--no-figures", action="store_true", help="no indicator-trend figure beside the dataset"
+    )
     dataset.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
 
 
@@ -71,7 +74,12 @@ def _dataset(args: argparse.Namespace) -> int:
     )
     out = args.out or Path("out") / plan.case.name / "dataset"
     result = run_dataset(
-        plan, out, workers=args.workers, scheduler=args.scheduler, progress=not args.json
+        plan,
+        out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.json,
+        figures=not args.no_figures,
     )
     if args.json:
         keys = ("records", "records_computed", "records_reused", "records_failed", "path")
@@ -110,12 +118,14 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     gear = average.attrs["gear"]
     stem = args.out or args.run.with_name(f"{args.run.stem}_tsa_{gear.replace('.', '_')}")
     summary: dict = {"gear": gear, "channel": channel, "revolutions": average.attrs["revolutions"]}
+    kurtogram = None
     result = xr.Dataset({"gear_average": average.drop_vars("weight_sum", errors="ignore")})
     if args.indicators:
         indicators = gear_indicator_values(average)
         summary["indicators"] = indicators
         rate = 1.0 / float(run.time[1] - run.time[0])
-        kurtogram, best = fast_kurtogram(late[channel].values, rate)
+        kurtogram = fast_kurtogram(late[channel].values, rate)
+        best = kurtogram[1]
         summary["kurtogram"] = {
             "centre_frequency_hz": best.centre_frequency,
             "bandwidth_hz": best.bandwidth,
@@ -129,7 +139,7 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     )
     files = [str(path)]
     if not args.no_figures:
-        files += _figures(average, stem, summary)
+        files += _figures(average, stem, summary, run, kurtogram if args.indicators else None)
     summary["files"] = files
     if args.json:
         print(json_text(summary))
@@ -147,15 +157,51 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     return 0
 
 
-def _figures(average, stem: Path, summary: dict) -> list[str]:
-    from ..io import atomic_path
-    from ..plots.condition_monitoring import plot_gear_average
+def damaged_teeth(run, gear: str, teeth: int) -> list:
+    """Where the run's damaged teeth of ``gear`` show in its average, in tooth periods.
 
-    figure = plot_gear_average(average, title=f"{summary['gear']} in {summary['channel']}")
-    path = stem.with_suffix(".png")
-    with atomic_path(path) as temporary:
-        figure.savefig(temporary, format="png", dpi=110)
-    return [str(path)]
+    A tooth k of the sun or the ring sits at k.  A planet's tooth meets the sun at k and
+    the ring (Z_p + 1) / 2 tooth periods later when the carrier drives (half a turn, and
+    the ring loads the other flank), (Z_p - 1) / 2 when the sun drives; a ring sensor
+    hears mostly the latter, so its contact, about two periods long, is shaded too.
+    """
+    import json
+
+    try:
+        defects = json.loads(run.attrs.get("tooth_defects", "[]"))
+    except ValueError:
+        return []
+    marks: list = []
+    for defect in defects:
+        if defect.get("gear") != gear:
+            continue
+        tooth = int(defect["tooth"])
+        marks.append(tooth)
+        if ".planet" in gear:
+            carrier_driven = str(run.attrs.get("input", "")).endswith("carrier.theta_z")
+            start = (tooth + (teeth + (1 if carrier_driven else -1)) / 2) % teeth
+            marks.append((start, start + 2.0))
+    return marks
+
+
+def _figures(average, stem: Path, summary: dict, run, kurtogram=None) -> list[str]:
+    from ..io import atomic_path
+    from ..plots.condition_monitoring import plot_gear_average, plot_kurtogram
+
+    damaged = damaged_teeth(run, summary["gear"], int(average.attrs["teeth"]))
+    figures = {
+        stem.with_suffix(".png"): plot_gear_average(
+            average, damaged_teeth=damaged, title=f"{summary['gear']} in {summary['channel']}"
+        )
+    }
+    if kurtogram is not None:
+        figures[stem.with_name(f"{stem.name}_kurtogram.png")] = plot_kurtogram(
+            *kurtogram, title=f"kurtogram of {summary['channel']}"
+        )
+    for path, figure in figures.items():
+        with atomic_path(path) as temporary:
+            figure.savefig(temporary, format="png", dpi=110)
+    return [str(path) for path in figures]
 
 
 HANDLERS = {"dataset": _dataset}

@@ -397,6 +397,24 @@ def merged_defects(case: Case, scene: Scene | None = None) -> tuple[ToothDefect,
     return tuple(merged.values())
 
 
+def defects_json(case: Case, scene: Scene | None = None) -> str:
+    """The tooth defects a scene runs with, as JSON: gear, tooth, stiffness factor and
+    fault kind (for output files, which readers take as data)."""
+    import json
+
+    return json.dumps(
+        [
+            {
+                "gear": d.gear,
+                "tooth": int(d.tooth),
+                "factor": float(d.factor),
+                "fault": type(d.fault).__name__ if d.fault is not None else "none",
+            }
+            for d in merged_defects(case, scene)
+        ]
+    )
+
+
 def check_choice(
     path: str, value: str | None, choices: Iterable[str], allow_none: bool = False
 ) -> None:

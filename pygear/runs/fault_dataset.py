@@ -43,6 +43,7 @@ from ..model.components import ToothDefect
 from ..model.gear_geometry import base_half_thickness
 from ..model.tooth_faults import ChippedTooth, RootCrack
 from ..model.transient_settings import Probe, TorqueLaw
+from .dataset_card import data_card
 from .progress import ProgressBar
 
 __all__ = ["FAULT_KINDS", "DatasetPlan", "plan_dataset", "run_dataset"]
@@ -376,8 +377,11 @@ def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dat
         },
         coords={"pulse": ("pulse", np.arange(pulses.size), {"long_name": "pulse number"})},
     )
+    unit = noisy.attrs.get("units", "m/s^2")
+    units = {"rms": unit, "residual_variance": f"({unit})^2", "envelope_variance": f"({unit})^2"}
     for name in (*INDICATORS, "residual_variance", "envelope_variance"):
-        data[name] = ((), float(indicators[name]), {"long_name": f"{name} of the gear average"})
+        attrs = {"long_name": f"{name} of the gear average", "units": units.get(name, "1")}
+        data[name] = ((), float(indicators[name]), attrs)
     labels = {**task.labels, "seed": seed}
     data = data.assign_coords({k: ((), v) for k, v in labels.items()})
     data.attrs.update(
@@ -424,6 +428,7 @@ def run_dataset(
     workers: int = 2,
     scheduler: str | None = None,
     progress: bool = True,
+    figures: bool = True,
 ) -> xr.Dataset:
     """Run every record of ``plan`` still missing in ``out_dir`` on Dask and combine all.
 
@@ -482,8 +487,10 @@ def run_dataset(
     from ..io import atomic_path
 
     with atomic_path(card) as temporary:
-        Path(temporary).write_text(data_card(plan, combined, path.name))
+        Path(temporary).write_text(data_card(plan, combined, path.name, INDICATORS))
     combined.attrs["path"] = str(path)
+    if figures and combined.sizes.get("record", 0):
+        _trend_figure(combined, out / f"dataset_{digest}_trends.png", plan)
     combined.attrs["wall_s"] = time.perf_counter() - started
     if progress:
         print(
@@ -495,6 +502,20 @@ def run_dataset(
         for record in failed:
             print(f"  failed: {record['error']}", file=sys.stderr)
     return combined
+
+
+def _trend_figure(combined: xr.Dataset, path: Path, plan: DatasetPlan) -> None:
+    """FM4, the NA4 trend, FM0 and ER against severity, drawn after the files are safe."""
+    from ..io import atomic_path
+    from ..plots.condition_monitoring import plot_indicator_trends
+
+    figure = plot_indicator_trends(
+        combined,
+        indicators=("fm4", "na4_trend", "fm0", "energy_ratio"),
+        title=f"{plan.case.name}: {plan.kind} on {plan.gear} tooth {plan.tooth}",
+    )
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=110)
 
 
 def combine_records(paths: Sequence[Path]) -> xr.Dataset:
@@ -540,61 +561,9 @@ def combine_records(paths: Sequence[Path]) -> xr.Dataset:
             "record",
             trend,
             {
+                "units": "1",
                 "long_name": f"{indicator.upper()} normalised by the mean {variance} of the "
-                "records of the same speed, load and seed up to this severity"
+                "records of the same speed, load and seed up to this severity",
             },
         )
     return combined
-
-
-def data_card(plan: DatasetPlan, combined: xr.Dataset, file_name: str) -> str:
-    """The dataset's data card (Markdown): what it holds, how it was made, its labels."""
-    lines = [
-        f"# Data card: {file_name}",
-        "",
-        f"Simulated vibration of case `{plan.case.name}` (scene `{plan.scene.name}`), "
-        f"made by pygear {combined.attrs.get('source', '')}.",
-        "",
-        "## Grid",
-        f"- fault: `{plan.kind}` on tooth {plan.tooth} of `{plan.gear}`, severities "
-        f"{', '.join(f'{s:g}' for s in plan.severities)} ({_SEVERITY[plan.kind]})",
-        f"- carrier speeds [rpm]: {', '.join(f'{s:g}' for s in plan.speeds)}; the run starts "
-        "turning at that speed and the load law balances the drive there",
-        f"- carrier torques [N m]: {', '.join(f'{t:g}' for t in plan.loads)}",
-        f"- noise seeds: {len(plan.seeds)}, white noise at {plan.snr_db:g} dB SNR on the sensor",
-        f"- records: {combined.attrs.get('records', combined.sizes.get('record', 0))}, "
-        f"failed: {combined.attrs.get('records_failed', 0)}",
-        "",
-        "## Variables (dimension `record`)",
-        f"- `{next(iter(v for v in combined.data_vars if v.endswith('_acceleration')), 'sensor')}`"
-        "(record, time): the sensor channel [m/s^2]",
-        "- `tachometer_angle`(record, time): the carrier's angle [rad]; "
-        "`tachometer_pulse_time`(record, pulse): once-per-turn pulses [s], NaN-padded",
-        f"- `gear_average`(record, angle_step): the synchronous average of `{plan.gear}`",
-        f"- indicators (record): {', '.join(INDICATORS)}, and `na4_trend`, `nb4_trend` "
-        "(normalised by the records of the same operating point and seed up to the severity)",
-        "- labels (coordinates on record): fault_kind, fault_gear, fault_tooth, severity, "
-        "speed_rpm, load_nm, seed, snr_db; `record_hash` names each record's own file",
-        "",
-        "## Use",
-        "```python",
-        "import xarray as xr",
-        f"data = xr.open_dataset('{file_name}')",
-        "data.fm4.groupby('severity').mean()",
-        "```",
-        "The record files `record_<hash>.nc` open one by one or together with "
-        "`xr.open_mfdataset('record_*.nc', combine='nested', concat_dim='record', join='outer')`.",
-        "",
-        "## Model",
-        "Rigid multibody planetary stage (pygear's improved formulation); sensor model, "
-        "averages and indicators: pygear's docs/condition_monitoring.md.",
-        "",
-    ]
-    return "\n".join(lines)
-
-
-_SEVERITY = {
-    "crack_depth": "root crack at 45 deg, q sin(45 deg) over the base-circle half thickness",
-    "stiffness_factor": "loss of the tooth's pair stiffness",
-    "chipped_fraction": "tip chipped off to this share of the tooth height",
-}
