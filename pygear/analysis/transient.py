@@ -36,7 +36,7 @@ from ..kernel.probes import RPM_PER_RAD_S, state_probes
 from ..model.case import Case, Scene, defects_json
 from ..model.components import PlanetaryStage
 from ..model.transient_settings import TorqueLaw, Transient
-from .sensor_signal import compile_scene_probes
+from .sensor_signal import compile_scene_probes, sensor_signal
 from .transient_checks import (
     check_static_deflection,
     check_transient_memory,
@@ -414,8 +414,6 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
                 values = problem.drive_sign * values
             data_vars[probe.name] = (("time",), values, probe.attrs)
     if problem.sensors:
-        from .sensor_signal import sensor_signal  # noqa: I001  (compile_scene_probes above)
-
         rate = 1.0 / (settings.decimation * settings.time_step)
         for plan in problem.sensors:
             values, attrs = sensor_signal(plan, auxiliary, rate)
