@@ -88,7 +88,7 @@ def test_noise_has_the_stated_signal_to_noise_ratio():
     [
         (dict(direction="axial"), ["direction", "radial, tangential"]),
         (dict(window_width_deg=400.0), ["window_width_deg", "(0, 360]"]),
-        (dict(stage="stage9"), ["stage", "not a planetary stage"]),
+        (dict(stage="stage9"), ["sensors.ring_sensor.stage", "not a planetary stage"]),
         (dict(name="ring sensor"), ["name", "letter"]),
         (dict(noise_snr_db=float("nan")), ["noise_snr_db"]),
         (dict(structure=(StructuralMode(0.0, 0.05, 1.0),)), ["structure[0].frequency"]),

@@ -194,6 +194,7 @@ def validate_sensors(sensors: tuple, stages: dict[str, object], path: str = "sen
         if not isinstance(sensor, Sensor):
             raise CaseError(f"{where} must be a Sensor (got {sensor!r})")
         sensor.validate(where)
+        where = f"{path}.{sensor.name}"  # a valid name now: the path a scene sets it by
         stage = stages.get(sensor.stage)
         if stage is None or not hasattr(stage, "planets"):
             planetary = ", ".join(name for name, s in stages.items() if hasattr(s, "planets"))
