@@ -30,8 +30,10 @@ import xarray as xr
 from ..errors import CaseError
 from .gear_indicators import gear_indicators
 from .synchronous_average import (
+    angle_from_tachometer,
     planet_synchronous_average,
     sun_synchronous_average,
+    synthetic_tachometer,
     time_synchronous_average,
 )
 
@@ -79,8 +81,49 @@ def _angle(run: xr.Dataset, stage: str, member: str, gear: str) -> xr.DataArray:
     return run[name]
 
 
+def _tachometer_angles(
+    run: xr.Dataset,
+    carrier: xr.DataArray,
+    teeth: tuple[int, int, int],
+    pulses: int,
+    jitter: float,
+    seed: int,
+) -> tuple[xr.Dataset, dict[str, xr.DataArray]]:
+    """The run within a synthetic tachometer's pulses on the carrier, and the angles an
+    analyst derives from them: the carrier's rebuilt from the pulses (PCHIP), the sun's
+    and a planet's from the carrier's by the stage's kinematics with the ring held,
+    theta_s = (1 + Z_r / Z_s) theta_c and, on the carrier, (Z_r / Z_p) theta_c."""
+    time = run.time.values
+    true = carrier.values * (1.0 if carrier.values[-1] >= carrier.values[0] else -1.0)
+    marks = synthetic_tachometer(time, true, pulses, jitter=jitter, seed=seed)
+    inside = (time >= marks[0]) & (time <= marks[-1])
+    step = 2 * math.pi / pulses
+    first = math.ceil(true[0] / step - 1e-9) * step  # the mark the first pulse is
+    angle = first + angle_from_tachometer(marks, pulses, time[inside])
+    run = run.isel(time=np.flatnonzero(inside))
+    sun, planet, ring = teeth
+    derived = {
+        "carrier": angle,
+        "sun": angle * (1 + ring / sun) if sun else None,
+        "planet": angle * ring / planet if planet else None,
+    }
+    arrays = {
+        name: xr.DataArray(values, dims="time", coords={"time": run.time}, attrs={"units": "rad"})
+        for name, values in derived.items()
+        if values is not None
+    }
+    return run, arrays
+
+
 def gear_average(
-    run: xr.Dataset, gear: str, channel: str, samples_per_tooth: int = 32
+    run: xr.Dataset,
+    gear: str,
+    channel: str,
+    samples_per_tooth: int = 32,
+    *,
+    tachometer: int | None = None,
+    jitter: float = 0.0,
+    seed: int = 0,
 ) -> xr.DataArray:
     """The synchronous average of ``gear`` in the sensor ``channel`` of ``run``.
 
@@ -94,6 +137,13 @@ def gear_average(
         A sensor channel of the run.
     samples_per_tooth : int
         Angle steps per tooth period; the average has ``teeth x samples_per_tooth``.
+    tachometer : int, optional
+        Average on the angles a tachometer with this many pulses a carrier turn gives
+        (:func:`.synchronous_average.synthetic_tachometer`, the carrier's angle rebuilt
+        from the pulses, the sun's and the planets' from it by the kinematics) instead of
+        the simulated angles.
+    jitter, seed : float, int
+        The tachometer's timing jitter [s] (standard deviation) and its seed.
 
     Returns
     -------
@@ -112,6 +162,12 @@ def gear_average(
     gear = f"{stage}.{member}"
     steps = teeth * int(samples_per_tooth)
     carrier = _angle(run, stage, "carrier", gear)
+    derived: dict[str, xr.DataArray] = {}
+    if tachometer is not None:
+        run, derived = _tachometer_angles(
+            run, carrier, (sun, planet, ring), tachometer, jitter, seed
+        )
+        carrier = derived["carrier"]
     signal = run[channel]
     window = {
         "sensor_angle_rad": math.radians(float(attrs["sensor_angle_deg"])),
@@ -123,18 +179,21 @@ def gear_average(
     if member == "ring":
         average = time_synchronous_average(signal, direction * carrier, steps)
     elif member == "sun":
-        sun_angle = _angle(run, stage, "sun", gear)
+        sun_angle = derived["sun"] if derived else _angle(run, stage, "sun", gear)
         average = sun_synchronous_average(
             signal, direction * sun_angle, direction * carrier, positions, **window
         )
     else:
-        spin = _angle(run, stage, member, gear)
+        spin = derived["planet"] if derived else _angle(run, stage, member, gear)
         sense = 1.0 if float(spin[-1] - spin[0]) >= 0 else -1.0
         position = positions[int(member.removeprefix("planet")) - 1]
         average = planet_synchronous_average(
             signal, direction * carrier, sense * spin, position, **window
         )
-    return average.assign_attrs(gear=gear, teeth=teeth)
+    angles = "simulated" if tachometer is None else f"tachometer, {tachometer} pulses/turn"
+    if tachometer is not None:
+        angles += f", jitter {jitter:g} s"
+    return average.assign_attrs(gear=gear, teeth=teeth, angles=angles)
 
 
 def gear_indicator_values(average: xr.DataArray, history: list | None = None) -> dict[str, float]:

@@ -114,10 +114,21 @@ def analyze_tsa(args: argparse.Namespace) -> int:
             f"--after {after!r} s must lie within the run (0 .. {float(run.time[-1]):g} s)"
         )
     late = run.sel(time=slice(after, None))
-    average = gear_average(late, args.tsa, channel)
+    if args.tachometer is not None and args.tachometer < 1:
+        raise CaseError(
+            f"--tachometer must be a whole number of pulses >= 1 (got {args.tachometer})"
+        )
+    if not args.jitter >= 0:
+        raise CaseError(f"--jitter must be a time >= 0 s (got {args.jitter!r})")
+    average = gear_average(late, args.tsa, channel, tachometer=args.tachometer, jitter=args.jitter)
     gear = average.attrs["gear"]
     stem = args.out or args.run.with_name(f"{args.run.stem}_tsa_{gear.replace('.', '_')}")
-    summary: dict = {"gear": gear, "channel": channel, "revolutions": average.attrs["revolutions"]}
+    summary: dict = {
+        "gear": gear,
+        "channel": channel,
+        "revolutions": average.attrs["revolutions"],
+        "angles": average.attrs["angles"],
+    }
     kurtogram = None
     result = xr.Dataset({"gear_average": average.drop_vars("weight_sum", errors="ignore")})
     if args.indicators:

@@ -104,6 +104,16 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--no-figures", action="store_true", help="--tsa: write the NetCDF file only"
     )
     analyze.add_argument(
+        "--tachometer",
+        type=int,
+        metavar="PULSES",
+        help="--tsa: average on the angles of a synthetic carrier tachometer with PULSES "
+        "marks a turn (the sun's and planets' from the kinematics) instead of the simulated",
+    )
+    analyze.add_argument(
+        "--jitter", type=float, default=0.0, help="--tachometer: timing jitter [s] (default 0)"
+    )
+    analyze.add_argument(
         "--window-revolutions",
         type=float,
         default=1.0,
