@@ -433,3 +433,25 @@ def test_local_maxima_agree_with_scipy_find_peaks() -> None:
         np.testing.assert_array_equal(local_maxima(values), expected)
     noise = rng.standard_normal(50_000)
     np.testing.assert_array_equal(local_maxima(noise), scipy.signal.find_peaks(noise)[0])
+
+
+@pytest.mark.parametrize("count", [999, 1000, 1009, 160001, 200003, 1048577])
+def test_fast_length_is_seven_smooth_and_close(count: int) -> None:
+    """The run analyses' record length: the largest n <= count with prime factors 2, 3, 5,
+    7 only, within 0.2 % (small records are left whole)."""
+    length = ps.fast_length(count)
+    if count < 1000:
+        assert length == count
+        return
+    rest = length
+    for prime in (2, 3, 5, 7):
+        while rest % prime == 0:
+            rest //= prime
+    assert rest == 1 and count * 0.998 <= length <= count
+    # no 7-smooth number lies between it and count
+    for between in range(length + 1, count + 1):
+        value = between
+        for prime in (2, 3, 5, 7):
+            while value % prime == 0:
+                value //= prime
+        assert value != 1

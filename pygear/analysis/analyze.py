@@ -9,11 +9,18 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import numpy as np
 import pandas as pd
 import xarray as xr
 
 from .peaks import find_peaks
-from .signal import SignalError, amplitude_spectrum, demodulated_resonance, envelope_spectrum
+from .signal import (
+    SignalError,
+    amplitude_spectrum,
+    demodulated_resonance,
+    envelope_spectrum,
+    fast_length,
+)
 
 __all__ = ["RunAnalysis", "analyze_channel", "pick_channel"]
 
@@ -103,6 +110,10 @@ def analyze_channel(
     """
     name = pick_channel(run, channel)
     signal = run[name]
+    # the record from `after`, its last few samples dropped for a fast FFT length
+    kept = int(np.count_nonzero(signal["time"].values >= after))
+    signal = signal.isel(time=slice(signal.sizes["time"] - kept, None))
+    signal = signal.isel(time=slice(0, fast_length(kept)))
     spectrum = amplitude_spectrum(signal, after=after, remove_mean=True)
     envelope = envelope_spectrum(signal, after=after)
     dra = demodulated_resonance(signal, band, after=after)

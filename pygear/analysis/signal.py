@@ -36,6 +36,7 @@ __all__ = [
     "DEFAULT_PLANNER_EFFORT",
     "DEFAULT_THREADS",
     "MIN_SAMPLES",
+    "fast_length",
     "SignalError",
     "amplitude_spectrum",
     "clear_plan_cache",
@@ -207,6 +208,27 @@ class _Record:
     @property
     def length(self) -> int:
         return self.rows.shape[1]
+
+
+def fast_length(count: int) -> int:
+    """The longest record length <= ``count`` whose only prime factors are 2, 3, 5 and 7
+    (FFTW's fast sizes); within 0.2 % of ``count`` above 1000 samples, else ``count``.
+
+    A run sampled from t = 1 s to 5 s at 40 kHz has 160 001 samples, a prime: FFTW
+    plans and runs it by Rader's algorithm in 150 ms and 18 ms, against 12 ms and 1 ms
+    for 160 000.  The analyses of a run (:mod:`pygear.analysis.analyze`) drop the few
+    samples at the record's end; the functions here take a record as it is.
+    """
+    if count < 1000:
+        return count
+    for length in range(count, int(count * 0.998), -1):
+        rest = length
+        for prime in (2, 3, 5, 7):
+            while rest % prime == 0:
+                rest //= prime
+        if rest == 1:
+            return length
+    return count
 
 
 def _prepare(signal: Any, after: float | None, name: str = "signal") -> _Record:
