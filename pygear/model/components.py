@@ -139,11 +139,11 @@ class Body:
     Parameters
     ----------
     mass : float
-        Mass [kg].
+        Mass [kg], > 0.
     polar_inertia : float
-        Moment of inertia about the axis [kg m^2].
+        Moment of inertia about the axis [kg m^2], > 0.
     tilt_inertia : float
-        Moment of inertia about a diameter (bending, x and y) [kg m^2].
+        Moment of inertia about a diameter (bending, x and y) [kg m^2], > 0.
     """
 
     mass: float
@@ -169,11 +169,12 @@ class Gear(Body):
     Parameters
     ----------
     base_radius : float
-        Base-circle radius r_b [m]; derived from ``geometry`` when left out (a typed
+        Base-circle radius r_b [m], > 0; derived from ``geometry`` when left out (a typed
         value must agree with it within 0.5 %).
     teeth : int or None
-        Number of teeth Z; needed for phasing and the tooth-contact table.  The tooth
-        numbers of meshing gears must fit their base radii (:data:`TOOTH_RATIO_TOLERANCE`).
+        Number of teeth Z, a whole number >= 3; needed for phasing and the tooth-contact
+        table.  The tooth numbers of meshing gears must fit their base radii
+        (:data:`TOOTH_RATIO_TOLERANCE`).
         Derived from ``geometry`` when left out.
     module : float or None
         Transverse module m_t [m] (the normal module over cos(beta) for a helical
@@ -287,7 +288,8 @@ class Carrier(Body):
     Parameters
     ----------
     radius : float
-        Carrier radius r_c: the distance from the stage axis to each planet centre [m].
+        Carrier radius r_c: the distance from the stage axis to each planet centre [m],
+        > 0.
     """
 
     radius: float = float("nan")
@@ -304,13 +306,13 @@ class Bearing:
     Parameters
     ----------
     radial : float
-        Stiffness in x and y [N/m].
+        Stiffness in x and y [N/m], >= 0.
     axial : float
-        Stiffness in z [N/m].
+        Stiffness in z [N/m], >= 0.
     tilt : float
-        Tilting stiffness about x and y [N m/rad].
+        Tilting stiffness about x and y [N m/rad], >= 0.
     torsional : float
-        Torsional stiffness about z [N m/rad]; 0 for a member that turns freely.
+        Torsional stiffness about z [N m/rad], >= 0; 0 for a member that turns freely.
     """
 
     radial: float
@@ -330,11 +332,11 @@ class PlanetBearing:
     Parameters
     ----------
     radial : float
-        Stiffness in the radial and tangential directions [N/m].
+        Stiffness in the radial and tangential directions [N/m], >= 0.
     axial : float
-        Axial stiffness [N/m].
+        Axial stiffness [N/m], >= 0.
     tilt : float
-        Tilting stiffness [N m/rad].
+        Tilting stiffness [N m/rad], >= 0.
     """
 
     radial: float
@@ -362,18 +364,20 @@ class Mesh:
     Parameters
     ----------
     stiffness : float or None
-        Mean (synthesizing) mesh stiffness k-bar [N/m].  Derived by the laws
+        Mean (synthesizing) mesh stiffness k-bar [N/m], > 0.  Derived by the laws
         ``iso6336`` and ``potential_energy`` (typing it then is an error); required
         by the others.
     pressure_angle_deg : float or None
-        Transverse operating pressure angle [deg].
+        Transverse operating pressure angle [deg], in (0, 45); derived from gear geometry
+        when left out, else required.
     contact_ratio : float or None
-        Transverse contact ratio epsilon_alpha.
+        Transverse contact ratio epsilon_alpha [-], > 0 and below 10, above 1 on a spur
+        stage; derived from gear geometry when left out, else required.
     end_to_peak : float
-        Single-pair stiffness at the ends of contact over the peak, lambda in (0, 1]
+        Single-pair stiffness at the ends of contact over the peak, lambda [-], in (0, 1]
         (the parabola of docs/model.md §5.2).
     stiffness_curve : tuple of float or None
-        The ``tabulated`` single-pair law: the shape of the stiffness of one tooth
+        The ``tabulated`` single-pair law [-]: the shape of the stiffness of one tooth
         pair at equally spaced relative contact positions from the start (0) to the
         end of contact (``contact_ratio``, plus ``overlap_ratio`` on a helical stage),
         at least two samples, all >= 0.  Only the shape counts: the curve is scaled so
@@ -388,14 +392,17 @@ class Mesh:
         None: ``tabulated`` with a curve, ``helical`` on a helical stage, else
         ``parabola``.
     overlap_ratio : float or None
-        Overlap ratio epsilon_beta of a helical mesh (derived from geometry).  A helical
+        Overlap ratio epsilon_beta of a helical mesh [-], >= 0 and below 10 (derived
+        from geometry).  A helical
         stage needs it, typed or derived.
     line_load : float
-        K_A F_t / b [N/mm] of the ``iso6336`` law (below 100 it lowers the stiffness).
+        K_A F_t / b [N/mm] of the ``iso6336`` law, > 0 (below 100 it lowers the
+        stiffness).
     young_modulus, poisson_ratio : float
-        Material of both gears [Pa, -], for the ``potential_energy`` law.
+        Material of both gears [Pa, -], for the ``potential_energy`` law: Young's
+        modulus > 0, Poisson's ratio in [0, 0.5).
     backlash : float or None
-        Circumferential backlash j_wt at the working pitch circle [m]: derived from the
+        Circumferential backlash j_wt at the working pitch circle [m], >= 0: derived from the
         geometry (centre distance and ``thickness_allowances``) when left out.  With the
         ``tooth_separation`` effect the teeth part within it (on the flank normal,
         j_wt cos(alpha_wt) cos(beta_b)) and meet again on the coast flanks; that effect
@@ -403,7 +410,7 @@ class Mesh:
     thickness_allowances : tuple of float
         Normal tooth thickness allowances (A_sn1, A_sn2) [m] of the mesh geometry's
         gears in its order: (sun, planet), (planet, ring) or (input, output gear);
-        negative thins a tooth.
+        negative thins a tooth; each below 1 m in size.
     """
 
     stiffness: float | None = None
@@ -537,7 +544,8 @@ class PlanetaryStage:
     Parameters
     ----------
     name : str
-        Stage name, the first part of every DOF and parameter path.
+        Stage name, the first part of every DOF and parameter path: a Python
+        identifier, unique in the gearbox.
     carrier, ring, sun, planet : Carrier, Gear, Gear, Gear
         The members; ``planet`` describes each of the N planets.  With gear geometry
         the carrier radius is the centre distance of both meshes: left out, it is the
@@ -552,15 +560,17 @@ class PlanetaryStage:
     sun_mesh, ring_mesh : Mesh
         Sun-planet and ring-planet meshes (the same for every planet).
     planet_angles_deg : tuple of float or None
-        Angle psi_n of each planet from the x axis [deg]; equal spacing when None.
+        Angle psi_n of each planet from the x axis [deg], one per planet; equal spacing
+        when None.  Neighbouring planets must not touch.
     base_helix_angle_deg : float or None
-        Signed base helix angle beta_b [deg]; 0 for spur gears.  Left out: from the
+        Signed base helix angle beta_b [deg], in (-45, 45); 0 for spur gears.  Left out: from the
         gear geometry (signed with the sun's hand), else 0.  A helical stage needs an
         overlap ratio on both meshes (typed or from geometry).
     axial_position : float
-        Position of the stage centre along the gearbox z axis [m].
+        Position of the stage centre along the gearbox z axis [m], within 100 m of the
+        origin.
     mesh_phases : dict of str to float or None
-        Overrides of the mesh phases gamma in [0, 1) mesh cycles, keyed by mesh name
+        Overrides of the mesh phases gamma [mesh cycles], each in [0, 1), keyed by mesh name
         (``sun-planet1`` ... ``sun-planetN``, ``ring-planet1`` ... ``ring-planetN``);
         the others follow Parker & Lin's phasing (:mod:`pygear.assembly.mesh_phasing`).  Stored
         as sorted (name, phase) pairs; :attr:`phase_overrides` gives the dict.
@@ -825,7 +835,7 @@ class ToothDefect:
         ring-planet1 for the ring, and of sun-planet<n> for planet n
         (:mod:`pygear.assembly.mesh_phasing` gives the derivation).
     factor : float
-        Stiffness factor of the tooth in [0, 1]: 1 healthy, below 1 a crack or
+        Stiffness factor of the tooth [-], in [0, 1]: 1 healthy, below 1 a crack or
         spall, 0 a missing tooth.  It multiplies the stiffness of every tooth pair
         the tooth is part of.
     fault : RootCrack, Spall, ChippedTooth or None

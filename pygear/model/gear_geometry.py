@@ -73,20 +73,20 @@ class GearGeometry:
     helix_angle_deg : float
         Reference helix angle beta [deg]: + right hand, - left hand, 0 spur.
     profile_shift : float
-        Profile shift coefficient x (ISO 21771 sign, also for internal gears).
+        Profile shift coefficient x [-] (ISO 21771 sign, also for internal gears).
     addendum_factor : float
-        Basic rack addendum h_aP / m_n.
+        Basic rack addendum h_aP / m_n [-].
     dedendum_factor : float
-        Basic rack dedendum h_fP / m_n.
+        Basic rack dedendum h_fP / m_n [-].
     tip_root_radius_factor : float
-        Root fillet radius of the basic rack rho_fP / m_n (the cutter's tip radius);
+        Root fillet radius of the basic rack rho_fP / m_n [-] (the cutter's tip radius);
         it sets where the involute starts (the root form circle).
     tip_relief : float or None
         Depth of a tip relief C_a [m], kept for contact laws; None for no relief.
     internal : bool
         True for an internal gear (ring).
     tip_alteration : float
-        Tip alteration coefficient k (ISO 21771): the tip circle moves by k m_n
+        Tip alteration coefficient k [-] (ISO 21771): the tip circle moves by k m_n
         (k < 0 shortens the teeth, e.g. to keep the bottom clearance at a centre
         distance widened by profile shift; see :func:`clearance_tip_alteration`).
     """

@@ -64,14 +64,14 @@ class ParallelStage:
         gears the mesh geometry is (input gear, output gear) at the zero-backlash
         centre distance of the profile shifts.
     overlap_ratio : float or None
-        Axial (overlap) contact ratio; 0 for spur gears.  Left out: from the gear
+        Axial (overlap) contact ratio [-], >= 0; 0 for spur gears.  Left out: from the gear
         geometry, else ``mesh.overlap_ratio``, else 0 for a spur pair; a helical pair
         needs one (0 typed runs it with the parabola).
     base_helix_angle_deg : float or None
-        Signed base helix angle [deg]; left out: from the gear geometry (signed with the
-        input gear's hand), else 0.
+        Signed base helix angle [deg], in (-45, 45); left out: from the gear geometry
+        (signed with the input gear's hand), else 0.
     centre_angle_deg : float
-        Direction of the line of centres [deg].
+        Direction of the line of centres [deg], finite.
     axial_position : float
         Position along the gearbox axis [m].
     """
@@ -195,7 +195,18 @@ class ShaftInertia:
 
 @dataclass(frozen=True)
 class RigidLink:
-    """A constraint q_b = ratio * q_a between two DOFs (``stage.member.dof``)."""
+    """A constraint q_b = ratio * q_a between two DOFs (``stage.member.dof``).
+
+    Parameters
+    ----------
+    a : str
+        DOF label of the master, ``stage.member.dof`` (``stage1.sun.theta_z``).
+    b : str
+        DOF label of the tied DOF, which the constraint removes; not ``a``, and no loop
+        of rigid links.
+    ratio : float
+        q_b / q_a [-], finite and non-zero (for rotations, the speed ratio).
+    """
 
     a: str
     b: str
@@ -209,13 +220,14 @@ class TorsionalSpring:
     Parameters
     ----------
     name : str
-        Coupling name; its stiffness is the parameter ``couplings.<name>.stiffness``.
+        Coupling name, a Python identifier; its stiffness is the sensitivity parameter
+        ``couplings.<name>.stiffness``.
     a, b : str
-        DOF labels ``stage.member.dof``.
+        DOF labels ``stage.member.dof``, two different DOFs.
     stiffness : float
-        [N m/rad].
+        Torsional stiffness k [N m/rad], >= 0.
     damping : float
-        [N m s/rad].
+        Torsional damping, a damper beside the spring [N m s/rad], >= 0.
     """
 
     name: str

@@ -90,7 +90,7 @@ class ChippedTooth:
     gear : int
         1 or 2: the gear with the chipped tooth.
     missing_fraction : float
-        Lost fraction of the tooth height (tip to root circle), in (0, 1]; 1 is a
+        Lost fraction of the tooth height (tip to root circle) [-], in (0, 1]; 1 is a
         missing tooth.
     face_start, face_width : float
         Extent along the face width [m]; ``face_width=None``: the whole face.

@@ -114,13 +114,14 @@ class TorqueLaw:
         of its DOF and negative the other way (see ``Transient.drive``); the generator
         law takes T_D > 0 and always brakes the output's actual rotation.
     start, ramp_time : float
-        Ramp start and length [s].
+        Ramp start and length [s]; the length is > 0.
     times, torques : tuple of float
-        Table samples [s], [N m]; linear interpolation, held at the ends.
+        Table samples [s], [N m], as many of each (at least one), the times strictly
+        increasing; linear interpolation, held at the ends.
     exponent : float
-        n of the generator law.
+        n of the generator law [-], > 0.
     ratio : float or None
-        i of the generator law; None takes the kinematic ratio of the stage.
+        i of the generator law [-], > 0; None takes the kinematic ratio of the stage.
     """
 
     kind: str = "constant"
@@ -275,25 +276,25 @@ class Transient:
     Parameters
     ----------
     duration : float
-        Simulated time [s].
+        Simulated time [s], > 0 and at least one time step.
     time_step : float
-        Constant step Delta t [s].
+        Constant step Delta t [s], > 0.
     sample_rate : float, optional
         Output rate [Hz]; 1/(sample_rate time_step) must be whole.  Default 1/time_step.
     integrator : str
         ``newmark`` (average acceleration), ``hht`` or ``generalized-alpha``.
     spectral_radius : float, optional
-        rho_inf of HHT (0.5 .. 1, default 0.9) or generalized-alpha (0 .. 1, default 0.8).
+        rho_inf [-] of HHT (0.5 .. 1, default 0.9) or generalized-alpha (0 .. 1, default 0.8).
     equivalent_load : str
         ``predictor``, ``iterate`` or ``refactor`` (:data:`EQUIVALENT_LOAD_MODES`).
     tolerance : float
         Iteration stops when the mesh loads change by less than ``tolerance`` times
-        the largest mean-stiffness mesh force [-].
+        the largest mean-stiffness mesh force [-], > 0.
     max_iterations : int
-        Iterations per step before ``iterate`` fails (``refactor`` then refactors).
+        Iterations per step before ``iterate`` fails (``refactor`` then refactors), >= 1.
     refactor_threshold : float
         ``refactor``: refactor when a mesh stiffness moved by more than this share of
-        its mean from the stiffness in the factor [-].  Also the jump that
+        its mean from the stiffness in the factor [-], >= 0.  Also the jump that
         ``restart_at_jumps`` reacts to.
     restart_at_jumps : bool
         Restart the acceleration from the equation of motion when a mesh stiffness
@@ -324,7 +325,7 @@ class Transient:
         Equilibrium speeds are means over the last ``mean_window`` seconds [s]; at
         least one time step and at most the duration.
     deflection_limit : float
-        A mesh deflection beyond this stops the run as diverged [m].
+        A mesh deflection beyond this stops the run as diverged [m], > 0.
     contact_sign : tuple of int, optional
         s_m per mesh (+1 or -1); default from a static solution under the drive.
     initial_speed_rpm : float
