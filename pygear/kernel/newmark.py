@@ -27,10 +27,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse
-from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from . import _kernel
+from .band_ordering import band_half_width, reverse_cuthill_mckee
 from .newmark_rebase import RigidRebase
 from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
@@ -275,13 +274,10 @@ class BandedNewmark:
             nz = np.abs(self.meshes.deflection) > 0
             pattern |= (nz.T.astype(int) @ nz.astype(int)) > 0
         pattern |= np.eye(n, dtype=bool)
-        self.order = np.asarray(
-            reverse_cuthill_mckee(scipy.sparse.csr_matrix(pattern), symmetric_mode=True), int
-        )
+        self.order = reverse_cuthill_mckee(pattern)
         self.position = np.empty(n, dtype=int)
         self.position[self.order] = np.arange(n)
-        rows, cols = np.nonzero(pattern[np.ix_(self.order, self.order)])
-        self.bandwidth = int(np.max(rows - cols)) if n > 1 else 0
+        self.bandwidth = band_half_width(pattern, self.order)
         self.linear_solver, self.linear_solver_reason = choose_linear_solver(
             n, self.bandwidth, linear_solver
         )
