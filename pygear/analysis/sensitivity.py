@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import ast
+import dataclasses
 import re
 from collections.abc import Callable, Sequence
 
@@ -13,6 +14,7 @@ import xarray as xr
 from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
 from ..model.case import Case, Scene, get_parameter, replace_parameter
+from ..model.components import is_finite_number
 from ..resources import require_memory
 from .modal import modal_analysis, model_attributes, solve_eigenproblem
 
@@ -167,7 +169,13 @@ def frequency_sweep(
         ``strain_energy_fraction(formulation, value, mode)`` of the swept parameter.
     """
     formulations = list(formulations or [case.formulation])
-    get_parameter(case, parameter)
+    current = get_parameter(case, parameter)
+    if not dataclasses.is_dataclass(current) and not is_finite_number(current):
+        raise CaseError(
+            f"parameter {parameter!r} is not a number (it holds {current!r}): the sweep "
+            "sets a stiffness, e.g. planetary.sun_mesh.stiffness"
+        )
+    # a path naming a stage or a mesh is refused here, with the fields it holds
     cases = [replace_parameter(case, parameter, float(v)) for v in values]
     models = {
         f: [assemble(c, scene, formulation=f, dof_set=dof_set) for c in cases] for f in formulations

@@ -7,18 +7,14 @@ analyses to run and the effects they call for; nothing outside that list is buil
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import hashlib
-import importlib.util
 import os
-import signal
-import threading
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from ..errors import CaseError
+from .case_files import find_case_dir, load_case_module
 from .components import ToothDefect, is_finite_number, plain_numbers, require_non_negative
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
@@ -446,7 +442,9 @@ def get_parameter(case: Case, path: str) -> object:
 def replace_parameter(case: Case, path: str, value: object) -> Case:
     """A copy of ``case`` with the parameter at ``path`` set to ``value`` (then validated)."""
     parts = path.split(".")
-    get_parameter(case, path)
+    current = get_parameter(case, path)
+    if dataclasses.is_dataclass(current) and not isinstance(value, type(current)):
+        _refuse_group(path, current)
     if parts[0] in ("damping", "formulation", "name", "description"):
         return _replace_path(case, parts, value)
     if parts[0] == "sensors":
@@ -458,6 +456,27 @@ def replace_parameter(case: Case, path: str, value: object) -> Case:
         _replace_path(s, parts[1:], value) if s.name == parts[0] else s for s in case.gearbox.stages
     )
     return dataclasses.replace(case, gearbox=dataclasses.replace(case.gearbox, stages=stages))
+
+
+def _refuse_group(path: str, group: object) -> None:
+    """Raise :class:`CaseError`: ``path`` names a stage, a gear or another group of
+    parameters, which a value cannot replace; the message lists its fields."""
+    kind = type(group).__name__
+    what = f"the stage {path!r} ({kind})" if getattr(group, "name", None) == path else f"a {kind}"
+    fields = [f.name for f in dataclasses.fields(group) if f.init and f.name[0] != "_"]
+    fields = [name for name in fields if name != "name"]
+    leaves = [
+        (name, child.name)
+        for name in fields
+        if dataclasses.is_dataclass(getattr(group, name))
+        for child in dataclasses.fields(getattr(group, name))
+    ]
+    stiffness = [".".join(p) for p in [(f,) for f in fields] + leaves if p[-1] == "stiffness"]
+    example = f"{path}.{stiffness[0] if stiffness else fields[0]}"
+    raise CaseError(
+        f"parameter {path!r} names {what}, not a number: give the path of one of its "
+        f"fields ({', '.join(fields)}), e.g. {example}"
+    )
 
 
 def _sensor(case: Case, name: str, path: str) -> Sensor:
@@ -488,89 +507,6 @@ def _replace_path(obj: object, parts: list[str], value: object) -> object:
         return dataclasses.replace(obj, **{parts[0]: value})
     child = getattr(obj, parts[0])
     return dataclasses.replace(obj, **{parts[0]: _replace_path(child, parts[1:], value)})
-
-
-def find_case_dir(reference: str | os.PathLike) -> Path:
-    """The directory of a case given as a path or as a name under ``cases/``.
-
-    Looked up, in order: the path itself, ``$PYGEAR_CASES/<name>``, ``./cases/<name>``
-    and the ``cases/`` folder of the source tree pygear was installed from.
-    """
-    path = Path(reference)
-    if path.name == "case.py":
-        path = path.parent
-    candidates = [path]
-    if not path.is_absolute() and len(path.parts) == 1:
-        if os.environ.get("PYGEAR_CASES"):
-            candidates.append(Path(os.environ["PYGEAR_CASES"]) / path)
-        candidates.append(Path.cwd() / "cases" / path)
-        candidates.append(Path(__file__).resolve().parents[2] / "cases" / path)
-    for candidate in candidates:
-        if (candidate / "case.py").is_file():
-            return candidate.resolve()
-    looked = ", ".join(str(c) for c in candidates)
-    raise CaseError(f"CASE {str(reference)!r}: no case.py found (looked in {looked})")
-
-
-def load_case_module(reference: str | os.PathLike, prefix: str = "pygear_case"):
-    """Execute ``<case dir>/case.py`` and return (its directory, the module).
-
-    Raises
-    ------
-    CaseError
-        When the file ends the program instead of defining a case: ``sys.exit()``,
-        ``raise SystemExit`` or a KeyboardInterrupt it raises itself (a Ctrl-C while it
-        runs still interrupts).  Left alone, such an exit would make the command end
-        "successfully" without doing anything, and a batch skip every other case.
-    """
-    directory = find_case_dir(reference)
-    path = directory / "case.py"
-    spec = importlib.util.spec_from_file_location(f"{prefix}_{directory.name}", path)
-    module = importlib.util.module_from_spec(spec)
-    with _signalled_interrupts() as signalled:
-        try:
-            spec.loader.exec_module(module)
-        except (SystemExit, GeneratorExit, KeyboardInterrupt) as exit_:
-            if isinstance(exit_, KeyboardInterrupt) and signalled():
-                raise
-            what = type(exit_).__name__
-            if isinstance(exit_, SystemExit):
-                what = f"SystemExit (exit code {exit_.code!r})"
-            raise CaseError(
-                f"{path}: the case file raised {what} instead of defining "
-                "`case = Case(...)`; a case file must not end the program"
-            ) from None
-    return directory, module
-
-
-@contextlib.contextmanager
-def _signalled_interrupts():
-    """Yield a function telling whether a real SIGINT arrived (main thread only; in
-    other threads no signal can arrive, so any KeyboardInterrupt is the file's own)."""
-    arrived = []
-    if threading.current_thread() is not threading.main_thread():
-        yield lambda: False
-        return
-    previous = signal.getsignal(signal.SIGINT)
-
-    def handler(signum, frame):
-        arrived.append(signum)
-        if previous is signal.SIG_IGN:
-            return
-        if callable(previous):
-            previous(signum, frame)  # Python's own raises KeyboardInterrupt
-            return
-        raise KeyboardInterrupt
-
-    try:
-        signal.signal(signal.SIGINT, handler)
-    except (ValueError, OSError):  # no signal handling here: treat as the file's own
-        yield lambda: False
-        return
-    try:
-        yield lambda: bool(arrived)
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 def load_case(reference: str | os.PathLike) -> Case:
