@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..model.names import FORMULATIONS
+from ..runs.progress import progress_wanted
 
 __all__ = ["HANDLERS", "add_parsers"]
 
@@ -97,7 +98,7 @@ def _run_batch(args: argparse.Namespace) -> int:
         out_dir=args.out,
         workers=args.workers,
         scheduler=args.scheduler,
-        progress=not args.json,
+        progress=not args.json and progress_wanted(),  # -q: none
         figures=not args.no_figures,
     )
     if args.json:
@@ -145,7 +146,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         cluster=args.cluster,
         cluster_options=options,
-        progress=not args.json,
+        progress=not args.json and progress_wanted(),  # -q: none
     )
     failed = int(result.attrs["points_failed"])
     if args.json:

@@ -11,6 +11,7 @@ import argparse
 from pathlib import Path
 
 from ..errors import CaseError
+from ..runs.progress import progress_wanted
 
 __all__ = ["HANDLERS", "add_parsers", "analyze_tsa", "damaged_teeth"]
 
@@ -78,7 +79,7 @@ def _dataset(args: argparse.Namespace) -> int:
         out,
         workers=args.workers,
         scheduler=args.scheduler,
-        progress=not args.json,
+        progress=not args.json and progress_wanted(),  # -q: none
         figures=not args.no_figures,
     )
     if args.json:

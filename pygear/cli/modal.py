@@ -6,8 +6,8 @@ Handlers import the analysis they run when called, so ``pygear --help`` loads no
 from __future__ import annotations
 
 import argparse
+import logging
 import math
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -20,6 +20,8 @@ if TYPE_CHECKING:
     from ..analysis.modal import ModalResult
 
 __all__ = ["HANDLERS", "add_parsers", "modal_summary"]
+
+_log = logging.getLogger(__name__)
 
 
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
@@ -145,8 +147,8 @@ def _modal(args: argparse.Namespace) -> int:
     if args.json:
         print(json_text(summary))
         return 0
+    _log.info("assembly and eigensolution: %.1f ms", elapsed * 1e3)
     _print_modal_table(modal)
-    print(f"assembly and eigensolution: {elapsed * 1e3:.1f} ms")
     for family, table in summary.get("stage_comparison", {}).items():
         print(f"{args.compare_stage} {family}: in gearbox / alone [Hz]")
         for a, b in zip(table["in_gearbox_hz"], table["independent_hz"]):
@@ -178,10 +180,7 @@ def _matrices(args: argparse.Namespace) -> int:
         formulation=model.formulation,
         dof_set=model.dof_set,
     )
-    print(
-        f"wrote {args.out}: {model.size} DOFs ({model.formulation}, {model.dof_set})",
-        file=sys.stderr,
-    )
+    print(f"wrote {args.out}: {model.size} DOFs ({model.formulation}, {model.dof_set})")
     return 0
 
 

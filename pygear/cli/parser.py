@@ -3,22 +3,29 @@
 Each command family lives in its own module (:mod:`.modal`, :mod:`.run`,
 :mod:`.batch`, :mod:`.accuracy`) and imports its work inside its handlers, so
 ``pygear --help`` loads no analysis, no xarray and no plotting.
+
+Conventions every command shares: results on standard output, diagnostics on standard
+error through the ``pygear`` logger (``-v`` info, ``-vv`` debug, ``-q`` errors only),
+and any error in one line (exit code 2 for bad input, 1 otherwise) unless ``--debug``
+asks for the traceback.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import logging
 import sys
 import threading
+import warnings
 from collections.abc import Iterator
 
 from ..errors import CaseError
-from . import accuracy, batch, campbell, condition, modal, run
+from . import accuracy, batch, campbell, cases, condition, modal, run
 
 __all__ = ["build_parser", "main"]
 
-_FAMILIES = (run, modal, campbell, batch, accuracy, condition)
+_FAMILIES = (run, modal, campbell, batch, accuracy, condition, cases)
 """Command families, in the order their subcommands are listed."""
 
 _USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal", "SignalError"))
@@ -59,17 +66,19 @@ def _dask_hidden() -> Iterator[None]:
 
 
 class _VersionAction(argparse.Action):
-    """``--version``: the package and the kernel's BLAS (library, version, CPU core)."""
+    """``--version``: the package, the git revision it was built from and the kernel's
+    BLAS (library, version, CPU core)."""
 
     def __init__(self, option_strings: list[str], dest: str, **kwargs: object) -> None:
         super().__init__(option_strings, dest, nargs=0, **kwargs)
 
     def __call__(self, parser, namespace, values, option_string=None) -> None:  # noqa: ANN001
         from .._blas import kernel_blas
-        from .._version import __version__
+        from .._version import __version__, git_revision
 
         blas = kernel_blas()
         print(f"pygear {__version__}")
+        print(f"git revision: {git_revision() or 'unknown (not built from a git checkout)'}")
         print(f"kernel BLAS: OpenBLAS {blas['version']}, core {blas['core']} ({blas['library']})")
         parser.exit(0)
 
@@ -80,12 +89,111 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--version",
         action=_VersionAction,
-        help="print the package version and the BLAS the kernel runs, then exit",
+        help="print the package version, its git revision and the BLAS the kernel runs",
     )
+    _add_common_options(parser, top_level=True)
     commands = parser.add_subparsers(dest="command", required=True)
     for family in _FAMILIES:
         family.add_parsers(commands)
+    for command in commands.choices.values():
+        _add_common_options(command, top_level=False)
     return parser
+
+
+def _add_common_options(parser: argparse.ArgumentParser, top_level: bool) -> None:
+    """``-v``, ``-q`` and ``--debug``, taken before the command or after it.
+
+    A subcommand's defaults are suppressed so that they never overwrite what was
+    given before the command (argparse copies a subparser's defaults over it).
+    """
+    default = {} if top_level else {"default": argparse.SUPPRESS}
+    group = parser.add_argument_group("output")
+    loudness = group.add_mutually_exclusive_group()
+    loudness.add_argument(
+        "-v",
+        "--verbose",
+        action="count",
+        **({"default": 0} if top_level else default),
+        help="diagnostics on stderr: -v what is done and how long it takes, -vv debug",
+    )
+    loudness.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        **default,
+        help="errors only on stderr (no progress, warnings or diagnostics)",
+    )
+    group.add_argument(
+        "--debug",
+        action="store_true",
+        **default,
+        help="print the traceback of an error instead of its one-line message",
+    )
+
+
+def log_level(verbose: int, quiet: bool) -> int:
+    """The ``pygear`` logger's level: errors only with ``-q``, warnings by default,
+    info with ``-v``, debug with ``-vv``."""
+    if quiet:
+        return logging.ERROR
+    return (logging.WARNING, logging.INFO)[verbose] if verbose < 2 else logging.DEBUG
+
+
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever ``sys.stderr`` is when a record is emitted (a test or a
+    notebook may replace it between commands)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+
+    @property
+    def stream(self):  # noqa: ANN201
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value: object) -> None:  # StreamHandler.__init__ sets it
+        pass
+
+
+class _Formatter(logging.Formatter):
+    """``pygear: message`` for information, ``pygear: warning: message`` above it, and
+    the module's name in debug records."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        message = record.getMessage()
+        if record.levelno >= logging.WARNING:
+            return f"pygear: {record.levelname.lower()}: {message}"
+        if record.levelno < logging.INFO:
+            return f"pygear: debug: [{record.name}] {message}"
+        return f"pygear: {message}"
+
+
+@contextlib.contextmanager
+def _logging(args: argparse.Namespace, whole_process: bool) -> Iterator[None]:
+    """The ``pygear`` logger at the level ``-v``/``-q`` ask for, on stderr, while a
+    command runs; the logger's previous state is restored afterwards.  When the command
+    is the whole process, Python warnings are logged too (``-q`` hides them)."""
+    logger = logging.getLogger("pygear")
+    saved = (logger.level, list(logger.handlers), logger.propagate)
+    handler = _StderrHandler()
+    handler.setFormatter(_Formatter())
+    logger.handlers = [handler]
+    logger.setLevel(log_level(args.verbose, args.quiet))
+    logger.propagate = False
+    shown = warnings.showwarning
+    if whole_process:
+
+        def show(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
+            logger.warning(f"{category.__name__}: {message}")
+
+        warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = shown
+        logger.setLevel(saved[0])
+        logger.handlers = saved[1]
+        logger.propagate = saved[2]
 
 
 def _user_error_types() -> tuple[type[BaseException], ...]:
@@ -110,16 +218,28 @@ def main(argv: list[str] | None = None) -> int:
         else contextlib.nullcontext()
     )
     try:
-        with hidden:
+        with hidden, _logging(args, whole_process):
             return handler(args)
     except KeyboardInterrupt as interrupt:  # Ctrl-C, or SIGTERM while a file is written
         print(f"pygear {args.command}: {interrupt or 'interrupted'}", file=sys.stderr)
         return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
     except Exception as error:
-        if not isinstance(error, _user_error_types()):
+        if args.debug:
             raise
-        print(f"pygear {args.command}: error: {error}", file=sys.stderr)
-        return 2
+        message = " ".join(str(error).split())  # one line
+        if isinstance(error, _user_error_types()):
+            print(f"pygear {args.command}: error: {message}", file=sys.stderr)
+            return 2
+        if isinstance(error, OSError):  # a file or folder the system refused
+            what = type(error).__name__
+            print(f"pygear {args.command}: error: {what}: {message}", file=sys.stderr)
+            return 1
+        print(
+            f"pygear {args.command}: internal error: {type(error).__name__}: {message} "
+            "(pygear --debug prints the traceback; please report it)",
+            file=sys.stderr,
+        )
+        return 1
 
 
 if __name__ == "__main__":

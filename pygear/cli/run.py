@@ -8,6 +8,7 @@ loads none of them.
 from __future__ import annotations
 
 import argparse
+import logging
 import math
 import sys
 import time
@@ -24,6 +25,8 @@ if TYPE_CHECKING:
     from ..model.case import Case, Scene
 
 __all__ = ["HANDLERS", "add_parsers"]
+
+_log = logging.getLogger(__name__)
 
 
 def add_parsers(commands: argparse._SubParsersAction) -> None:
@@ -286,11 +289,9 @@ def _run(args: argparse.Namespace) -> int:
                 entry["files"] += [str(p) for p in write_sensor_figures(dataset, out, scene.name)]
         entry["wall_s"] = time.perf_counter() - started
         summary["scenes"][scene.name] = entry
+        _log.info("scene %s: %.0f ms", scene.name, entry["wall_s"] * 1e3)
         if not args.json:
-            print(
-                f"scene {scene.name}: {model.formulation}, {model.dof_set} "
-                f"({model.size} DOFs), {entry['wall_s'] * 1e3:.0f} ms"
-            )
+            print(f"scene {scene.name}: {model.formulation}, {model.dof_set} ({model.size} DOFs)")
             for path in entry["files"]:
                 print(f"  wrote {path}")
     if len(transients) > 1 and figures:
