@@ -33,5 +33,5 @@ openblas_pc=$("$VENV/bin/python" -c \
 # its absolute path, or the install records whichever `ninja` is first on PATH (a pyenv
 # shim script costs 0.1 s per process, a third of `pygear --help`)
 NINJA="$(cd "$VENV/bin" && pwd)/ninja" "$VENV/bin/python" -m pip install -q --no-build-isolation \
-  -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test]"
+  -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test,docs]"
 "$VENV/bin/python" -c "import pygear.kernel._kernel" && echo "setup: pygear is installed in $VENV" >&2
