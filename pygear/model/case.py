@@ -119,9 +119,9 @@ class Scene:
     dof_set: str | None = None
     effects: tuple[str, ...] = ()
     carrier_speed_rpm: float = 0.0
-    defects: tuple = ()
+    defects: tuple[ToothDefect, ...] = ()
     transient: Transient | None = None
-    parameters: tuple = ()
+    parameters: tuple[tuple[str, object], ...] = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.defects, list):
@@ -189,8 +189,8 @@ class Case:
     damping: RayleighDamping = field(default_factory=RayleighDamping)
     scenes: tuple[Scene, ...] = (Scene("modal"),)
     description: str = ""
-    defects: tuple = ()
-    sensors: tuple = ()
+    defects: tuple[ToothDefect, ...] = ()
+    sensors: tuple[Sensor, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))

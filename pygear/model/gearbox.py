@@ -264,8 +264,8 @@ class Gearbox:
         turns); another count means a part is disconnected.
     """
 
-    stages: tuple
-    couplings: tuple = ()
+    stages: tuple[PlanetaryStage | ParallelStage | ShaftInertia, ...]
+    couplings: tuple[RigidLink | TorsionalSpring, ...] = ()
     input_dof: str | None = None
     output_dof: str | None = None
     rigid_body_modes: int = 1
@@ -274,7 +274,7 @@ class Gearbox:
         object.__setattr__(self, "stages", tuple(self.stages))
         object.__setattr__(self, "couplings", tuple(self.couplings))
 
-    def stage(self, name: str):
+    def stage(self, name: str) -> PlanetaryStage | ParallelStage | ShaftInertia:
         """The stage called ``name``."""
         for stage in self.stages:
             if stage.name == name:

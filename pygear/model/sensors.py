@@ -116,7 +116,7 @@ class Sensor:
     window_width_deg: float | None = None
     mesh_gain: float = 1.0
     bearing_gain: float = 0.0
-    structure: tuple = ()
+    structure: tuple[StructuralMode, ...] = ()
     noise_snr_db: float | None = None
     noise_seed: int = 0
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -144,7 +145,7 @@ class TorqueLaw:
         return cls("ramp", torque=torque, start=start, ramp_time=ramp_time)
 
     @classmethod
-    def table(cls, times, torques) -> TorqueLaw:
+    def table(cls, times: Iterable[float], torques: Iterable[float]) -> TorqueLaw:
         """Linear interpolation of (time, torque) samples, held beyond the ends."""
         return cls(
             "table",
