@@ -5,7 +5,7 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.pygear-installed
 CASE ?= yang2016_planetary
 
-.PHONY: setup run test test-slow lint bench clean
+.PHONY: setup run test test-slow lint bench docs clean
 
 $(STAMP): pyproject.toml meson.build scripts/setup.sh
 	VENV=$(VENV) bash scripts/setup.sh
@@ -30,5 +30,10 @@ bench: $(STAMP)
 	for script in benchmarks/bench_*.py; do $(PY) $$script || exit 1; done
 	$(PY) benchmarks/bench_newmark.py --case gearbox
 
+# the documentation site: docs/_build/html/index.html; warnings are errors, and the
+# tutorial notebooks run during the build
+docs: $(STAMP)
+	$(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
+
 clean:
-	rm -rf build out .pytest_cache
+	rm -rf build out .pytest_cache docs/_build docs/generated

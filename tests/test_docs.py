@@ -26,8 +26,9 @@ MODEL_PAGE = DOCS / "model.md"
 SOURCE_DIRS = ("pygear", "fortran", "cases", "tests", "docs")
 """Directories whose every file is read (README.md is read too)."""
 
-SKIPPED_PARTS = {"__pycache__", ".pytest_cache", ".ruff_cache"}
-"""Generated directories: compiled modules fold split string constants back together."""
+SKIPPED_PARTS = {"__pycache__", ".pytest_cache", ".ruff_cache", "_build", "generated"}
+"""Generated directories: compiled modules fold split string constants back together, and
+the documentation site's build (``docs/_build``, ``docs/generated``) copies every page."""
 
 OUTSIDE_NOTES = tuple(stem + "." + "md" for stem in ("PHYSICS", "VALIDATION", "ARCHITECTURE"))
 """Design notes that live outside the repository; upper case, unlike ``docs/architecture.md``."""
