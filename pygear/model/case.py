@@ -71,9 +71,9 @@ class RayleighDamping:
     Parameters
     ----------
     mass_coefficient : float
-        alpha [1/s].
+        alpha [1/s], >= 0: mass-proportional damping (it also brakes the rigid rotation).
     stiffness_coefficient : float
-        beta [s].
+        beta [s], >= 0: stiffness-proportional damping.
     """
 
     mass_coefficient: float = 0.0
@@ -91,7 +91,8 @@ class Scene:
     Parameters
     ----------
     name : str
-        Scene name; output files are named after it.
+        Scene name, unique in the case; output files are named after it, so it has no
+        path separator and no leading dot.
     analyses : tuple of str
         Analyses to run, from :data:`ANALYSES`.
     formulation : str or None
@@ -101,7 +102,8 @@ class Scene:
     effects : tuple of str
         Effects from :data:`EFFECTS`.
     carrier_speed_rpm : float
-        Nominal carrier speed for speed-dependent terms [rpm].
+        Nominal carrier speed for speed-dependent terms [rpm], finite; non-zero with
+        ``speed_dependent_planet_terms``.
     defects : tuple of ToothDefect
         Tooth defects of this scene, on top of the case's own (a scene's defect on
         the same tooth replaces the case's).  Checked against the gearbox by
@@ -165,7 +167,8 @@ class Case:
     Parameters
     ----------
     name : str
-        Case name (usually the directory name).
+        Case name (usually the directory name): a file name, without path separators
+        or leading dot.
     gearbox : Gearbox
         The stages.
     formulation : str
