@@ -329,13 +329,11 @@ def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Na
 
 def _compare_transients(transients: dict, out: Path) -> Path:
     """The speeds of several transient scenes side by side (seed Figure 9)."""
-    from ..io import atomic_path
+    from ..io import save_figure
     from ..plots.transient import plot_speeds
 
-    target = out / "transient_speeds.png"
-    with atomic_path(target) as temporary:
-        plot_speeds(list(transients.values()), temporary, format="png")
-    return target
+    figure = plot_speeds(list(transients.values()))
+    return save_figure(figure, out / "transient_speeds.png", dpi=figure.dpi)
 
 
 HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {

@@ -242,15 +242,15 @@ def write_signal_analysis(
     )
     if not figure:
         return analysis, [path]
-    return analysis, [path, _signal_figure(analysis, base)]
+    return analysis, [path, _signal_figure(analysis, base, run.attrs)]
 
 
-def _signal_figure(analysis, base: Path) -> Path:
+def _signal_figure(analysis, base: Path, run_attrs) -> Path:
+    from ..io import save_figure
     from ..plots.signal import plot_run_analysis  # Matplotlib loads only for a figure
 
-    target = base.with_name(f"{base.name}.png")
-    plot_run_analysis(analysis, target)
-    return target
+    figure = plot_run_analysis(analysis, run_attrs=run_attrs)
+    return save_figure(figure, base.with_name(f"{base.name}.png"), dpi=figure.dpi)
 
 
 def acceleration_channels(dataset) -> list[str]:
@@ -287,5 +287,6 @@ def write_run_signals(
         analyses.append(analysis)
     if figures:
         for analysis in analyses:
-            files.append(_signal_figure(analysis, directory / f"{stem}_{analysis.channel}"))
+            base = directory / f"{stem}_{analysis.channel}"
+            files.append(_signal_figure(analysis, base, dataset.attrs))
     return files

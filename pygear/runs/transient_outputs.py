@@ -96,11 +96,11 @@ def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     the run has no speed channel."""
     if not any(v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()):
         return None
+    from ..io import save_figure
     from ..plots.transient import plot_speeds  # Matplotlib loads only for a figure
 
-    with atomic_path(target) as temporary:
-        plot_speeds([dataset], temporary, format="png")
-    return target
+    figure = plot_speeds([dataset])
+    return save_figure(figure, target, dpi=figure.dpi)  # atomic: no half-written figure
 
 
 def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> list[Path]:
