@@ -188,7 +188,7 @@ def _sensitivity(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..analysis.sensitivity import frequency_sweep, parse_values
-    from ..io import write_netcdf
+    from ..io import save_figure, write_netcdf
     from ..model.case import load_case
     from ..plots.modal import plot_frequency_sweep
     from ..runs.json_output import json_text
@@ -211,8 +211,8 @@ def _sensitivity(args: argparse.Namespace) -> int:
         input_hash=case.input_hash(),
         title=f"Natural frequencies of {case.name} against {args.parameter}",
     )
-    figure = out / f"{stem}.png"
-    plot_frequency_sweep(sweep, figure)
+    drawing = plot_frequency_sweep(sweep)
+    figure = save_figure(drawing, out / f"{stem}.png", dpi=drawing.dpi)
     if args.json:
         print(
             json_text(

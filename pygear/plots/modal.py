@@ -1,23 +1,24 @@
-"""Figures of modal results (plotting only; nothing here computes a result)."""
+"""Figures of modal results (plotting only; nothing here computes a result): the modal
+energy shares of every mode, a mode's shape (:mod:`pygear.plots.mode_shape`) and the
+natural frequencies against a stiffness."""
 
 from __future__ import annotations
 
 import math
-import os
 
-import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.patches import Circle  # noqa: E402
-
-from ..assembly.matrices import Model  # noqa: E402
-from ..io import save_figure  # noqa: E402
-from ..model.case import Case  # noqa: E402
+from .layout import new_figure, result_title
+from .mode_shape import plot_mode_shape
 
 __all__ = ["plot_frequency_sweep", "plot_modal_energy", "plot_mode_shape"]
+
+DPI = 120
+"""Resolution the figures are drawn at [pixels per inch]; save them at the same."""
 
 CLASS_COLOURS = {
     "rotational": "tab:red",
@@ -26,6 +27,12 @@ CLASS_COLOURS = {
     "axial": "tab:orange",
     "tilting": "tab:purple",
 }
+
+ENERGY_PANEL_INCH = (2.6, 1.45)
+"""Width and height of one mode's bar panel [in]."""
+ENERGY_MARGINS_INCH = {"left": 0.6, "right": 0.1, "top": 0.75, "bottom": 0.75, "gap": 0.85}
+"""Fixed margins [in]: the y label, the figure's two-line title, the key of the groups
+below, and between rows a panel's x label and the next row's two-line titles."""
 
 
 def _distinct_modes(modal: xr.Dataset) -> list[int]:
@@ -39,129 +46,106 @@ def _distinct_modes(modal: xr.Dataset) -> list[int]:
     return chosen
 
 
-def plot_modal_energy(modal: xr.Dataset, path: str | os.PathLike) -> None:
-    """Bars of the four modal-energy shares for every distinct mode (paper Figs. 4, 5)."""
+def _mode_name(modal: xr.Dataset, m: int) -> str:
+    """``stage: class index``, e.g. ``stage1: rotational 2``."""
+    name = f"{modal.mode_class.values[m]} {int(modal.class_index.values[m])}"
+    if "stage_name" in modal:
+        name = f"{modal.stage_name.values[m]}: {name}"
+    return name
+
+
+def plot_modal_energy(modal: xr.Dataset, *, scene: str | None = None) -> Figure:
+    """Bars of the modal kinetic-energy shares of every distinct mode (paper Figs. 4, 5).
+
+    Parameters
+    ----------
+    modal : xarray.Dataset
+        From :func:`pygear.analysis.modal.modal_analysis`.
+    scene : str, optional
+        The scene the model was assembled for, for the title when the attributes do
+        not name one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per distinct non-zero frequency, titled with the stage holding most
+        of the mode's energy, its class and frequency; one colour per energy group.
+    """
     modes = _distinct_modes(modal)
     columns = 4
-    rows = math.ceil(len(modes) / columns)
-    width, height = 2.6 * columns, 2.0 * rows
-    fig, axes = plt.subplots(rows, columns, figsize=(width, height), sharey=True, squeeze=False)
-    # fixed margins [in] for the tick labels and the two-line title: a layout search
-    # (tight_layout) drew the figure twice and was most of its cost
-    fig.subplots_adjust(
-        left=0.45 / width,
-        right=1 - 0.1 / width,
-        bottom=0.3 / height,
-        top=1 - 0.75 / height,
+    rows = max(1, math.ceil(len(modes) / columns))
+    panel_width, panel_height = ENERGY_PANEL_INCH
+    margins = ENERGY_MARGINS_INCH
+    width = margins["left"] + columns * panel_width + margins["right"]
+    height = margins["top"] + margins["bottom"] + rows * panel_height + (rows - 1) * margins["gap"]
+    figure = new_figure(width, height, DPI)
+    axes = figure.subplots(rows, columns, sharey=True, squeeze=False)
+    # fixed margins [in]: a layout search (tight_layout) drew the figure twice and was
+    # most of its cost
+    figure.subplots_adjust(
+        left=margins["left"] / width,
+        right=1 - margins["right"] / width,
+        bottom=margins["bottom"] / height,
+        top=1 - margins["top"] / height,
         wspace=0.12,
-        hspace=0.5,
+        hspace=margins["gap"] / panel_height,
     )
-    groups = list(modal.energy_group.values)
+    groups = [str(g) for g in modal.energy_group.values]
+    colours = [f"C{n % 10}" for n in range(len(groups))]
+    positions = np.arange(1, len(groups) + 1)
     for ax, m in zip(axes.flat, modes):
-        shares = modal.energy_share.values[m]
-        ax.bar(np.arange(1, len(groups) + 1), shares, color="tab:gray")
-        cls = modal.mode_class.values[m]
-        ax.set_title(
-            f"{cls} {int(modal.class_index.values[m])}: {modal.frequency.values[m]:.1f} Hz",
-            fontsize=8,
-        )
-        ax.set_xticks(np.arange(1, len(groups) + 1))
+        ax.bar(positions, modal.energy_share.values[m], color=colours)
+        ax.set_title(f"{_mode_name(modal, m)}\n{modal.frequency.values[m]:.1f} Hz", fontsize=8)
+        ax.set_xticks(positions)
         ax.set_ylim(0, 1)
         ax.tick_params(labelsize=7)
+        ax.set_xlabel("energy group [-]", fontsize=7, labelpad=1)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("share of kinetic energy [-]", fontsize=7)
     for ax in list(axes.flat)[len(modes) :]:
         ax.set_visible(False)
-    legend = "; ".join(f"{i + 1}: {g}" for i, g in enumerate(groups))
-    fig.suptitle(
-        f"Modal kinetic energy, {modal.attrs.get('formulation', '')} formulation\n{legend}",
+    figure.legend(
+        handles=[
+            Patch(color=c, label=f"{n}: {g}") for n, (g, c) in enumerate(zip(groups, colours), 1)
+        ],
+        loc="lower center",
+        ncol=len(groups),
+        fontsize=7,
+        frameon=False,
+    )
+    figure.suptitle(
+        f"Modal kinetic energy by group\n{result_title(modal.attrs, scene=scene)}",
         fontsize=9,
         y=1 - 0.05 / height,  # its two lines above the first row's titles at any height
     )
-    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
-    plt.close(fig)
+    return figure
 
 
-def plot_mode_shape(
-    case: Case, model: Model, modal: xr.Dataset, mode: int, path: str | os.PathLike
-) -> None:
-    """In-plane drawing of one mode of the first stage (paper Fig. 6).
+def plot_frequency_sweep(sweep: xr.Dataset, *, scene: str | None = None) -> Figure:
+    """Natural frequencies against a stiffness parameter, coloured by class (paper Fig. 7).
 
-    Dashed circles are the pitch circles at rest, solid ones deflected; a radial line
-    on each member shows its rotation; dots mark the centres.
+    Parameters
+    ----------
+    sweep : xarray.Dataset
+        From :func:`pygear.analysis.sensitivity.frequency_sweep`.
+    scene : str, optional
+        The scene the models were assembled for, for the title when the attributes do
+        not name one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per formulation, sharing the frequency axis.
     """
-    stage = case.gearbox.stages[0]
-    shape = model.reduction @ np.asarray(modal.shape.values[:, mode], dtype=float)
-    value = dict(zip(model.full_labels, shape))
-
-    def dof(member: str, name: str) -> float:
-        return float(value.get(f"{stage.name}.{member}.{name}", 0.0))
-
-    radii = {
-        "carrier": stage.carrier.radius,
-        "ring": stage.ring.base_radius,
-        "sun": stage.sun.base_radius,
-    }
-    bodies = []  # (centre at rest, displacement, rotation, radius)
-    for member, radius in radii.items():
-        bodies.append(
-            (
-                np.zeros(2),
-                np.array([dof(member, "x"), dof(member, "y")]),
-                dof(member, "theta_z"),
-                radius,
-            )
-        )
-    for n, psi in enumerate(stage.planet_angles, start=1):
-        member = f"planet{n}"
-        radial = np.array([math.cos(psi), math.sin(psi)])
-        tangential = np.array([-math.sin(psi), math.cos(psi)])
-        revolution = dof(member, "phi")
-        displacement = (
-            dof(member, "zeta") * radial
-            + (dof(member, "eta") + stage.carrier.radius * revolution) * tangential
-        )
-        bodies.append(
-            (
-                stage.carrier.radius * radial,
-                displacement,
-                dof(member, "theta_z") + revolution,
-                stage.planet.base_radius,
-            )
-        )
-    largest = max(max(np.hypot(*d), abs(t) * r) for _, d, t, r in bodies) or 1.0
-    scale = 0.12 * stage.carrier.radius / largest
-    fig, ax = plt.subplots(figsize=(5.5, 5.5))
-    for centre, displacement, rotation, radius in bodies:
-        moved = centre + scale * displacement
-        angle = scale * rotation
-        ax.add_patch(Circle(tuple(centre), radius, fill=False, ls="--", lw=0.8, color="gray"))
-        ax.add_patch(Circle(tuple(moved), radius, fill=False, lw=1.2, color="tab:blue"))
-        ax.plot(*centre, ".", color="gray")
-        ax.plot(*moved, "o", color="tab:blue", ms=3)
-        tip = moved + radius * np.array([math.cos(angle), math.sin(angle)])
-        ax.plot([moved[0], tip[0]], [moved[1], tip[1]], color="tab:red", lw=1)
-    limit = stage.ring.base_radius * 1.15
-    ax.set_xlim(-limit, limit)
-    ax.set_ylim(-limit, limit)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    cls = modal.mode_class.values[mode]
-    ax.set_title(
-        f"{cls} {int(modal.class_index.values[mode])}, "
-        f"{modal.frequency.values[mode]:.1f} Hz ({model.formulation})"
-    )
-    fig.tight_layout()
-    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
-    plt.close(fig)
-
-
-def plot_frequency_sweep(sweep: xr.Dataset, path: str | os.PathLike) -> None:
-    """Natural frequencies against a stiffness parameter, coloured by class (paper Fig. 7)."""
     formulations = list(sweep.formulation.values) if "formulation" in sweep.dims else [None]
-    fig, axes = plt.subplots(
-        1, len(formulations), figsize=(5.5 * len(formulations), 4.5), sharey=True, squeeze=False
+    width, height = 5.5 * len(formulations), 5.0
+    figure = new_figure(width, height, DPI)
+    axes = figure.subplots(1, len(formulations), sharey=True, squeeze=False)
+    figure.subplots_adjust(
+        left=0.9 / width, right=1 - 0.2 / width, bottom=0.6 / height, top=1 - 0.9 / height
     )
     values = sweep.value.values
+    parameter = sweep.attrs.get("parameter", "parameter")
     for ax, formulation in zip(axes.flat, formulations):
         data = sweep.sel(formulation=formulation) if formulation is not None else sweep
         frequency = data.frequency.values
@@ -180,18 +164,20 @@ def plot_frequency_sweep(sweep: xr.Dataset, path: str | os.PathLike) -> None:
                 )
         ax.set_yscale("log")
         ax.set_xscale("log")
-        ax.set_xlabel(
-            f"{sweep.attrs.get('parameter', 'parameter')} [{sweep.value.attrs.get('units', '')}]"
-        )
-        ax.set_title(f"{formulation or ''} formulation")
+        ax.set_xlabel(f"{parameter} [{sweep.value.attrs.get('units', '-')}]")
+        ax.set_title(f"{formulation or sweep.attrs.get('formulation', '')} formulation", fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
     axes.flat[0].set_ylabel("natural frequency [Hz]")
     handles = [
-        plt.Line2D([], [], color=c, label=k)
+        Line2D([], [], color=c, label=k)
         for k, c in CLASS_COLOURS.items()
         if k in set(np.ravel(sweep.mode_class.values))
     ]
     axes.flat[-1].legend(handles=handles, fontsize=8)
-    fig.tight_layout()
-    save_figure(fig, path, dpi=120)  # atomic: no half-written figure
-    plt.close(fig)
+    figure.suptitle(
+        f"Natural frequencies against {parameter}\n"
+        f"{result_title(sweep.attrs, scene=scene)}",  # each panel names its formulation
+        fontsize=10,
+        y=1 - 0.08 / height,
+    )
+    return figure

@@ -50,20 +50,26 @@ def write_modal_outputs(
     ]
     if not figures:
         return written
+    from ..io import save_figure
     from ..plots.modal import plot_modal_energy, plot_mode_shape
+    from ..plots.mode_shape import stage_mode
 
-    energy = directory / f"{stem}_energy.png"
-    plot_modal_energy(modal, energy)
-    written.append(energy)
+    drawings = {f"{stem}_energy.png": plot_modal_energy(modal)}
     rotational = [
         m
         for m, (c, i) in enumerate(zip(modal.mode_class.values, modal.class_index.values))
         if c == "rotational" and i == 2
     ]
     if rotational and case.gearbox.stages[0].kind == "planetary":
-        shape = directory / f"{stem}_mode_shape.png"
-        plot_mode_shape(case, model, modal, rotational[0], shape)
-        written.append(shape)
+        drawings[f"{stem}_mode_shape.png"] = plot_mode_shape(case, model, modal, rotational[0])
+    for stage in case.gearbox.stages:  # a helical stage's mode moves out of plane too
+        mode = stage_mode(modal, stage.name) if not stage.spur else None
+        if mode is not None and stage.kind in ("planetary", "parallel"):
+            drawings[f"{stem}_mode_shape_{stage.name}.png"] = plot_mode_shape(
+                case, model, modal, mode, stage=stage.name
+            )
+    for name, drawing in drawings.items():
+        written.append(save_figure(drawing, directory / name, dpi=drawing.dpi))
     return written
 
 
