@@ -56,7 +56,7 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
     """Write the grid, the table and the Pareto plots of a study into ``out``."""
     from ..analysis.accuracy import accuracy_table_text
-    from ..io import atomic_path, write_netcdf
+    from ..io import atomic_path, save_figure, write_netcdf
     from ..plots.accuracy import plot_pareto
 
     stem = f"accuracy_{ds.attrs['scene']}"
@@ -72,10 +72,8 @@ def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
         temporary.write_text(accuracy_table_text(ds) + "\n")
     written.append(table)
     for formulation in ds.formulation.values.tolist():
-        figure = out / f"{stem}_{formulation}.png"
-        with atomic_path(figure) as temporary:
-            plot_pareto(ds, temporary, formulation, format="png")
-        written.append(figure)
+        figure = plot_pareto(ds, formulation)
+        written.append(save_figure(figure, out / f"{stem}_{formulation}.png", dpi=figure.dpi))
     return written
 
 

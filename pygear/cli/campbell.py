@@ -172,7 +172,7 @@ def _campbell(args: argparse.Namespace) -> int:
 
     from ..analysis.campbell import campbell_diagram
     from ..assembly.speed_terms import reference_label
-    from ..io import write_netcdf
+    from ..io import save_figure, write_netcdf
     from ..plots.campbell import plot_campbell
     from ..runs.json_output import json_text
 
@@ -192,8 +192,8 @@ def _campbell(args: argparse.Namespace) -> int:
         input_hash=case.input_hash(),
         title=f"Campbell diagram of {case.name} over the speed of {campbell.attrs['reference']}",
     )
-    figure = out / "campbell.png"
-    plot_campbell(campbell, figure)
+    drawing = plot_campbell(campbell)
+    figure = save_figure(drawing, out / "campbell.png", dpi=drawing.dpi)
     summary = campbell_summary(campbell)
     if args.json:
         print(json_text({**summary, "files": [str(path), str(figure)]}))

@@ -9,42 +9,39 @@ as a dashed line and the cheapest setting that meets it circled.
 from __future__ import annotations
 
 import math
-import os
 
 import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from ..analysis.accuracy import recommendation  # noqa: E402
+from ..analysis.accuracy import recommendation
+from .layout import new_figure, result_title
 
 __all__ = ["plot_pareto"]
 
 FLOOR = 1e-9
 """Errors below this are drawn at it (a log axis has no zero) [-]."""
 
+DPI = 110
+"""Resolution the figure is drawn at [pixels per inch]; save it at the same."""
 
-def plot_pareto(
-    ds: xr.Dataset,
-    path: str | os.PathLike,
-    formulation: str | None = None,
-    *,
-    format: str | None = None,
-) -> None:
+
+def plot_pareto(ds: xr.Dataset, formulation: str | None = None) -> Figure:
     """Error against wall time, one panel per judged metric kind, for one formulation.
 
     Parameters
     ----------
     ds : xarray.Dataset
         From :func:`pygear.runs.accuracy.accuracy_study`.
-    path : path-like
-        Target image (format from the suffix).
     formulation : str, optional
         Which formulation (default: the first).
-    format : str, optional
-        Image format when ``path`` has no telling suffix.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-log panel per metric kind; the fidelities' key below them.
     """
     formulation = formulation or str(ds.formulation.values[0])
     sub = ds.sel(formulation=formulation)
@@ -52,8 +49,9 @@ def plot_pareto(
     kinds = list(dict.fromkeys(k for k, j in zip(sub.metric_kind.values, judged) if j))
     columns = min(3, max(len(kinds), 1))
     rows = max(1, math.ceil(len(kinds) / columns))
-    fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.4 * rows), squeeze=False)
-    colours = plt.cm.tab20(np.linspace(0, 1, max(sub.sizes["fidelity"], 2)))
+    fig = new_figure(4.2 * columns, 3.4 * rows + 0.4, DPI)
+    axes = fig.subplots(rows, columns, squeeze=False)
+    colours = matplotlib.colormaps["tab20"](np.linspace(0, 1, max(sub.sizes["fidelity"], 2)))
     sizes = 12 + 60 * np.linspace(1, 0, sub.sizes["time_step"])
     tolerance = ds.attrs["tolerance"]
     for ax, kind in zip(axes.flat, kinds):
@@ -85,7 +83,7 @@ def plot_pareto(
             )
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_title(kind.replace("_", " "), fontsize=9)
         ax.set_xlabel("wall time per run [s]")
         ax.set_ylabel("largest error [-]")
@@ -94,14 +92,14 @@ def plot_pareto(
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7, frameon=False)
     best = recommendation(ds, formulation)
-    title = f"{ds.attrs['case']} / {ds.attrs['scene']}, {formulation}: error against cost"
+    title = f"Error against cost\n{result_title(ds.attrs, formulation=formulation)}"
     if best["fidelity"]:
         title += f" (all metrics: {best['fidelity']} at dt = {best['time_step']:g} s)"
     fig.suptitle(title, fontsize=10)
     legend_rows = math.ceil(sub.sizes["fidelity"] / 3)
-    fig.tight_layout(rect=(0, 0.04 + 0.025 * legend_rows, 1, 0.96))
-    fig.savefig(path, dpi=110, format=format)
-    plt.close(fig)
+    height = fig.get_figheight()
+    fig.tight_layout(rect=(0, (0.2 + 0.16 * legend_rows) / height, 1, 1 - 0.55 / height))
+    return fig
 
 
 def _front(ax, wall: np.ndarray, error: np.ndarray) -> None:

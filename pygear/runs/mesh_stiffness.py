@@ -62,7 +62,7 @@ def mesh_stiffness_report(
         case, carrier_speed_rpm=speed_rpm, duration=duration, scene=chosen
     )
     if out_path is not None:
-        _write(case, dataset, speed_rpm, Path(out_path))
+        _write(case, dataset, speed_rpm, Path(out_path), scene=scene)
     return dataset, mesh_summary(case, dataset)
 
 
@@ -104,9 +104,11 @@ def write_mesh_stiffness(
     return dataset
 
 
-def _write(case: Case, dataset: xr.Dataset, speed_rpm: float, out_path: Path) -> None:
+def _write(
+    case: Case, dataset: xr.Dataset, speed_rpm: float, out_path: Path, scene: str | None = None
+) -> None:
     """The dataset as NetCDF and its figure beside it, each renamed only when whole."""
-    from ..io import atomic_path, write_netcdf
+    from ..io import save_figure, write_netcdf
     from ..plots.mesh import plot_mesh_stiffness
 
     write_netcdf(
@@ -115,5 +117,5 @@ def _write(case: Case, dataset: xr.Dataset, speed_rpm: float, out_path: Path) ->
         title=f"Time-varying mesh stiffness of {case.name} at {speed_rpm:g} rpm",
         input_hash=case.input_hash(),
     )
-    with atomic_path(out_path.with_suffix(".png")) as temporary:
-        plot_mesh_stiffness(dataset, temporary, format="png")
+    figure = plot_mesh_stiffness(dataset, scene=scene)
+    save_figure(figure, out_path.with_suffix(".png"), dpi=figure.dpi)

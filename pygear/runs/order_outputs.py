@@ -10,7 +10,7 @@ import xarray as xr
 from ..analysis.order_plan import OrderPlan
 from ..analysis.order_tracking import track_orders
 from ..errors import CaseError
-from ..io import write_netcdf
+from ..io import save_figure, write_netcdf
 
 __all__ = ["ORDER_FILES", "order_directory", "write_order_tracking"]
 
@@ -73,7 +73,7 @@ def write_order_tracking(
         title=f"Order tracking of {plan.channel} against the angle of {plan.reference.member}",
         input_hash=str(run.attrs.get("input_hash", "")) or None,
     )
-    plot_order_map(result, paths[1])
-    plot_order_spectrum(result, paths[2])
-    plot_order_slices(result, paths[3])
+    for plot, path in zip((plot_order_map, plot_order_spectrum, plot_order_slices), paths[1:]):
+        figure = plot(result, run_attrs=run.attrs)
+        save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
     return result, paths
