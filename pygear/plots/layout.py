@@ -178,17 +178,16 @@ def place_point_labels(
         x_px = ax.transData.transform((x, ax.get_ylim()[0]))[0]  # any y: x is separable
         if not frame.x0 <= x_px <= frame.x1:
             continue
+        # the text measured once, in the first row: the other places are that box moved
+        trial = ax.annotate(text, xy=(x, top), xytext=(x, top), **style)
+        trial.update_positions(renderer)  # its text's transform, before measuring
+        first = Text.get_window_extent(trial, renderer)
+        trial.remove()
+        step = step or (first.height + 2.0 * LABEL_GAP_PX) / frame.height
         spot = None
         for row in range(rows):
-            height = top - row * step
-            for shift in (0.0, -1.0 / 3.0, 1.0 / 3.0):
-                trial = ax.annotate(text, xy=(x, height), xytext=(x, height), **style)
-                trial.update_positions(renderer)  # its text's transform, before measuring
-                box = Text.get_window_extent(trial, renderer)
-                trial.remove()
-                step = step or (box.height + 2.0 * LABEL_GAP_PX) / frame.height
-                # sideways by a share of the text's width, in pixels
-                box = box.translated(shift * box.width, 0.0)
+            for shift in (0.0, -1.0 / 3.0, 1.0 / 3.0):  # sideways, a share of the width
+                box = first.translated(shift * first.width, -row * step * frame.height)
                 # a leader drops from under the text to the axes' bottom (the point lies
                 # somewhere on it once the y limits are set; a caller's line spans it)
                 leader = Bbox.from_extents(x_px - 0.5, frame.y0, x_px + 0.5, box.y0)
@@ -197,7 +196,7 @@ def place_point_labels(
                     and not overlaps(box, texts + lines)
                     and not overlaps(leader, texts, gap=1.0)
                 ):
-                    spot = (shift, height, box, leader)
+                    spot = (shift, top - row * step, box, leader)
                     break
             if spot is not None:
                 break
