@@ -17,6 +17,7 @@ import signal
 import subprocess
 import tempfile
 import threading
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,6 +27,13 @@ if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = [
+    "CONVENTIONS",
+    "LABEL_SUFFIX",
+    "TIME_UNITS",
+    "index_labels",
+    "open_dataset",
+    "open_mfdataset",
+    "PROVENANCE",
     "COMPRESSION_LEVEL",
     "COMPRESSED_SIZE",
     "WriteInterrupted",
@@ -268,6 +276,102 @@ def _umask() -> int:
     return mask
 
 
+CONVENTIONS = "CF-1.10"
+"""The CF version every file follows (docs/data_model.md)."""
+
+PROVENANCE = ("case", "scene", "formulation", "input_hash", "case_json")
+"""Global attributes that say which inputs made a file; a file computed from another
+(spectra, orders, averages of a run file) takes them from it (``provenance``)."""
+
+
+TIME_UNITS = "seconds since 1970-01-01 00:00:00"
+"""Units of a file's ``time``: CF (4.4) gives a time coordinate a reference instant.  A
+run has no date, so t = 0 (its start) is written as the Unix epoch; pygear's readers
+(:func:`open_dataset`, :func:`index_labels`) give the seconds back.  Read with
+``decode_times=False`` (they do): xarray's default decoding rounds each time to a
+whole nanosecond, so a sample step that is not a whole number of nanoseconds (or a
+product that rounds differently) comes back unequal by up to 1 ns."""
+
+LABEL_SUFFIX = "_label"
+"""A label dimension ``member`` is written with its names in ``member_label(member)``."""
+
+
+def _cf_encoded(dataset: xr.Dataset) -> xr.Dataset:
+    """The dataset as a CF file holds it: ``time`` in :data:`TIME_UNITS` with its
+    standard name, and each dimension labelled by text (``member``) written without a
+    coordinate variable of its own and with its names in the auxiliary coordinate
+    ``member_label`` (CF 1.3: a coordinate variable is numeric; CF 5: an auxiliary
+    coordinate is not named after its dimension).  :func:`index_labels` undoes both."""
+    if "time" in dataset.variables and dataset["time"].attrs.get("units") == "s":
+        attrs = {**dataset["time"].attrs, "units": TIME_UNITS, "standard_name": "time"}
+        attrs.setdefault("calendar", "standard")
+        dataset = dataset.assign_coords(time=dataset["time"].copy().assign_attrs(attrs))
+    labelled = [
+        name
+        for name in dataset.dims
+        if name in dataset.coords and dataset[name].dtype.kind in "OUS"
+    ]
+    for name in labelled:
+        label = dataset[name].variable.to_base_variable()
+        dataset = dataset.drop_vars(name).assign_coords({f"{name}{LABEL_SUFFIX}": label})
+    return dataset
+
+
+def index_labels(dataset: xr.Dataset) -> xr.Dataset:
+    """A pygear file as pygear computed it: every ``<dim>_label`` back as the text
+    index of ``<dim>`` (so ``.sel(member="planetary.sun")`` works) and ``time`` in
+    seconds from the start.  Pass it as ``preprocess`` to ``xarray.open_mfdataset``;
+    :func:`open_dataset` and :func:`open_mfdataset` apply it."""
+    import numpy as np
+
+    for name in list(dataset.variables):
+        dimension = str(name).removesuffix(LABEL_SUFFIX)
+        variable = dataset[name]
+        if name != dimension and variable.dims == (dimension,) and dimension not in dataset.coords:
+            values = variable.values.astype(str).astype(object)
+            dataset = dataset.drop_vars(name).assign_coords(
+                {dimension: (dimension, values, dict(variable.attrs))}
+            )
+    if "time" in dataset.variables:
+        time = dataset["time"]
+        units = str(time.attrs.get("units", time.encoding.get("units", "")))
+        if np.issubdtype(time.dtype, np.datetime64):
+            seconds = (time.values - np.datetime64("1970-01-01T00:00:00")) / np.timedelta64(1, "s")
+        elif units.startswith("seconds since 1970-01-01"):  # as written, or re-encoded
+            seconds = time.values
+        else:
+            return dataset
+        attrs = {k: v for k, v in time.attrs.items() if k not in ("standard_name", "calendar")}
+        attrs["units"] = "s"
+        dataset = dataset.assign_coords(time=(time.dims, np.asarray(seconds, float), attrs))
+    return dataset
+
+
+def open_dataset(path: str | os.PathLike, **options) -> xr.Dataset:
+    """Open a pygear NetCDF file as pygear wrote the data: labels as text indexes and
+    time in seconds (:func:`index_labels`); ``options`` go to ``xarray.open_dataset``."""
+    import xarray as xr
+
+    options.setdefault("decode_times", False)
+    opened = xr.open_dataset(path, **options)
+    result = index_labels(opened)
+    result.set_close(opened.close)  # closing the result closes the file
+    return result
+
+
+def open_mfdataset(paths, **options) -> xr.Dataset:
+    """Open several pygear files as one dataset: by default stacked along ``scene``
+    (``combine="nested", concat_dim="scene"``), each file through :func:`index_labels`;
+    ``options`` go to ``xarray.open_mfdataset``."""
+    import xarray as xr
+
+    options.setdefault("decode_times", False)
+    options.setdefault("preprocess", index_labels)
+    if "combine" not in options:
+        options.update(combine="nested", concat_dim="scene")
+    return xr.open_mfdataset(paths, **options)
+
+
 def write_netcdf(
     dataset: xr.Dataset,
     path: str | os.PathLike,
@@ -275,15 +379,21 @@ def write_netcdf(
     title: str,
     input_hash: str | None = None,
     compression: int = COMPRESSION_LEVEL,
+    case_json: str | None = None,
+    provenance: Mapping | None = None,
 ) -> Path:
     """Write ``dataset`` to NetCDF4 atomically, with CF global attributes.
 
     ``Conventions``, ``title``, ``source`` (pygear's version and git revision), ``history``
-    and, when given, ``input_hash`` join the dataset's own attributes; the file appears
-    under its name only when complete (:func:`atomic_path`).  Numeric variables of at
-    least :data:`COMPRESSED_SIZE` values are stored shuffled and zlib-compressed
-    (lossless; HDF5 keeps a chunk raw where compression would not shrink it, so the
-    file is never larger than uncompressed but for a few bytes of chunk index).
+    and, when given, ``input_hash`` and ``case_json`` join the dataset's own attributes;
+    the file appears under its name only when complete (:func:`atomic_path`).  Numeric
+    variables of at least :data:`COMPRESSED_SIZE` values are stored shuffled and
+    zlib-compressed (lossless; HDF5 keeps a chunk raw where compression would not shrink
+    it, so the file is never larger than uncompressed but for a few bytes of chunk
+    index).  Coordinates are written without ``_FillValue`` (CF: a coordinate has no
+    missing values), and a file of one scene (a ``scene`` attribute) carries it as a
+    scalar ``scene`` coordinate, so that ``xarray.open_mfdataset(files,
+    combine="nested", concat_dim="scene")`` stacks scenes along it.
 
     Parameters
     ----------
@@ -297,14 +407,22 @@ def write_netcdf(
         Hash of the case inputs that produced it.
     compression : int
         zlib level 1-9 of the large variables; 0 stores every variable raw.
+    case_json : str, optional
+        The resolved case as JSON (:func:`pygear.model.case_json.case_json`).
+    provenance : mapping, optional
+        Attributes of the file this one was computed from: its :data:`PROVENANCE`
+        entries are kept where the dataset has none of its own.
     """
     if isinstance(compression, bool) or compression not in range(10):
         raise ValueError(f"compression must be a zlib level 0-9 (got {compression!r})")
     stamp = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     dataset = dataset.copy()
+    for key in PROVENANCE:
+        if provenance is not None and key in provenance and key not in dataset.attrs:
+            dataset.attrs[key] = provenance[key]
     dataset.attrs.update(
         {
-            "Conventions": "CF-1.8",
+            "Conventions": CONVENTIONS,
             "title": title,
             "source": source_string(),
             "history": f"{stamp} written by {source_string()}",
@@ -312,11 +430,22 @@ def write_netcdf(
     )
     if input_hash:
         dataset.attrs["input_hash"] = input_hash
-    encoding = {}
+    if case_json:
+        dataset.attrs["case_json"] = case_json
+    scene = dataset.attrs.get("scene")
+    if isinstance(scene, str) and "scene" not in dataset.variables and "scene" not in dataset.dims:
+        dataset = dataset.assign_coords(scene=((), scene, {"long_name": "scene of the case"}))
+    dataset = _cf_encoded(dataset)
+    encoding: dict[str, dict] = {name: {"_FillValue": None} for name in dataset.coords}
+    for name, variable in dataset.variables.items():
+        if variable.dtype.kind in "OUS":  # text as character arrays (CF 2.2)
+            encoding.setdefault(name, {}).update({"dtype": "S1", "_FillValue": None})
     if compression:
         for name, variable in dataset.variables.items():
             if variable.dtype.kind in "iuf" and variable.size >= COMPRESSED_SIZE:
-                encoding[name] = {"zlib": True, "complevel": compression, "shuffle": True}
+                encoding.setdefault(name, {}).update(
+                    {"zlib": True, "complevel": compression, "shuffle": True}
+                )
     path = Path(path)
     with atomic_path(path) as temporary:
         dataset.to_netcdf(temporary, engine="netcdf4", encoding=encoding)

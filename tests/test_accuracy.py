@@ -98,12 +98,11 @@ def test_average_acceleration_is_second_order_on_a_smooth_case():
     ds = accuracy_study(case, case.scene("run"), study)
     order = float(ds.observed_order_median.isel(formulation=0, fidelity=0))
     assert 1.9 <= order <= 2.1
-    rms = ds.observed_order.sel(metric="mesh_force_rms:sun_planet1_mesh_force").item()
+    rms = ds.observed_order.sel(metric="mesh_force_rms:planetary.sun-planet1").item()
     assert 1.9 <= rms <= 2.1
     # the window mean over steps of a drifting speed is a first-order rectangle rule
-    assert ds.observed_order.sel(metric="equilibrium_speed:carrier").item() == pytest.approx(
-        1.0, abs=0.05
-    )
+    carrier = ds.observed_order.sel(metric="equilibrium_speed:planetary.carrier").item()
+    assert carrier == pytest.approx(1.0, abs=0.05)
 
 
 @pytest.fixture(scope="module")
@@ -152,8 +151,8 @@ def test_pruned_rungs_match_the_full_model(small_study, study_case):
     sub = ds.isel(formulation=0, time_step=-1)
     reference = sub.value.sel(fidelity="spatial/time-varying/refactor")
     stage = study_case.gearbox.stages[0]
-    sun_rpm = float(reference.sel(metric="equilibrium_speed:sun"))
-    force = float(reference.sel(metric="mesh_force_rms:sun_planet1_mesh_force"))
+    sun_rpm = float(reference.sel(metric="equilibrium_speed:planetary.sun"))
+    force = float(reference.sel(metric="mesh_force_rms:planetary.sun-planet1"))
     amplification = rigid_to_elastic_ratio(
         stage.sun.base_radius, sun_rpm * np.pi / 30 * study.duration, force,
         stage.sun_mesh.stiffness,

@@ -26,6 +26,7 @@ from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays, MeshTer
 
 STIFFNESS = 1e6  # N/m
 GAP = 1e-4  # m
+SUN_MESH, RING_MESH = "planetary.sun-planet1", "planetary.ring-planet1"  # run-file labels
 
 
 def probe(name: str, kind: str, n: int, dof: int) -> KernelProbe:
@@ -310,13 +311,13 @@ def test_zero_backlash_without_reversal_is_the_one_sided_run(study_case, monkeyp
     one_sided = run_transient(case, scene)
     assert zero.attrs["solver_coast"] == 0 and one_sided.attrs["solver_coast"] == 0
     stage = study_case.gearbox.stages[0]
-    angle = float(np.abs(one_sided["planetary_sun_speed"]).max()) * np.pi / 30 * 0.1
-    force = float(np.sqrt(np.mean(one_sided["sun_planet1_mesh_force"].values ** 2)))
+    angle = float(np.abs(one_sided.speed.sel(member="planetary.sun")).max()) * np.pi / 30 * 0.1
+    force = float(np.sqrt(np.mean(one_sided.mesh_force.sel(mesh=SUN_MESH).values ** 2)))
     amplification = rigid_to_elastic_ratio(
         stage.sun.base_radius, angle, force, stage.sun_mesh.stiffness
     )
     tolerance = roundoff_tolerance(one_sided.attrs["steps"], amplification)
-    for name in ("sun_planet1_mesh_force", "ring_planet1_mesh_force", "planetary_sun_speed"):
+    for name in ("speed", "mesh_force"):  # every member and mesh probed
         a, b = zero[name].values, one_sided[name].values
         assert np.abs(a - b).max() <= tolerance * np.abs(b).max()
 
@@ -340,9 +341,9 @@ def test_torque_reversal_scene_strikes_the_coast_flanks(study_case):
     run = run_transient(case, scene)
     assert run.attrs["solver_coast"] > 0
     stage = case.gearbox.stages[0]
-    for mesh, component in (("sun_planet1", stage.sun_mesh), ("ring_planet1", stage.ring_mesh)):
-        force = run[f"{mesh}_mesh_force"].values
-        deflection = np.abs(run[f"{mesh}_mesh_deflection"].values)
+    for mesh, component in ((SUN_MESH, stage.sun_mesh), (RING_MESH, stage.ring_mesh)):
+        force = run.mesh_force.sel(mesh=mesh).values
+        deflection = np.abs(run.mesh_deflection.sel(mesh=mesh).values)
         assert force.min() < 0  # the coast flank pushes
         assert run.time.values[np.argmax(force < 0)] > 0.02  # only after the reversal
         gap = component.backlash * math.cos(component.pressure_angle)

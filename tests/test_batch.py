@@ -29,6 +29,8 @@ CASES = ROOT / "cases"
 PLANETARY = CASES / "yang2016_planetary"
 SUN = "planetary.sun_mesh.stiffness"
 RING = "planetary.ring_mesh.stiffness"
+# the sweep's dimensions: each path with its dots as "__", a keyword .sel() takes
+SUN_DIM, RING_DIM = "planetary__sun_mesh__stiffness", "planetary__ring_mesh__stiffness"
 
 
 def reference(case, assignments, scene="modal"):
@@ -52,15 +54,15 @@ def sweep_6(case_ref, out, scheduler, **kwargs):
 def test_grid_sweep_matches_serial_runs(tmp_path, scheduler):
     case = load_case(PLANETARY)
     result = sweep_6(PLANETARY, tmp_path, scheduler)
-    assert result.sizes[SUN] == 3 and result.sizes[RING] == 2
-    np.testing.assert_array_equal(result[SUN].values, [1e8, 3e8, 9e8])
-    np.testing.assert_array_equal(result[RING].values, [2e8, 7e8])
-    assert result.frequency.dims == (SUN, RING, "mode")
+    assert result.sizes[SUN_DIM] == 3 and result.sizes[RING_DIM] == 2
+    np.testing.assert_array_equal(result[SUN_DIM].values, [1e8, 3e8, 9e8])
+    np.testing.assert_array_equal(result[RING_DIM].values, [2e8, 7e8])
+    assert result.frequency.dims == (SUN_DIM, RING_DIM, "mode")
     assert result.attrs["points"] == 6 and result.attrs["points_computed"] == 6
     for sun in (1e8, 3e8, 9e8):
         for ring in (2e8, 7e8):
             expected = reference(case, {SUN: sun, RING: ring})
-            point = result.sel({SUN: sun, RING: ring})
+            point = result.sel({SUN_DIM: sun, RING_DIM: ring})
             np.testing.assert_allclose(
                 point.frequency.values, expected.frequency.values, rtol=1e-10
             )
@@ -76,13 +78,15 @@ def test_grid_sweep_matches_serial_runs(tmp_path, scheduler):
         compat="no_conflicts",
         join="outer",
     ) as opened:
-        assert opened.sizes[SUN] == 3 and opened.sizes[RING] == 2
+        assert opened.sizes[SUN_DIM] == 3 and opened.sizes[RING_DIM] == 2
         np.testing.assert_allclose(opened.frequency.values, result.frequency.values, rtol=1e-12)
     combined = Path(result.attrs["path"])
     assert combined.parent == tmp_path and combined.name.startswith("sweep_")
     with xr.open_dataset(combined) as written:
         np.testing.assert_allclose(written.frequency.values, result.frequency.values, rtol=1e-12)
-        assert written[SUN].attrs["units"] == "N/m"
+        assert written[SUN_DIM].attrs["units"] == "N/m"
+        assert written[SUN_DIM].attrs["parameter_path"] == SUN
+        assert written.frequency.attrs["units"] == "Hz"  # the points' attributes kept
 
 
 def test_zipped_sweep_pairs_values(tmp_path, scheduler):
@@ -97,7 +101,7 @@ def test_zipped_sweep_pairs_values(tmp_path, scheduler):
         progress=False,
     )
     assert dict(result.sizes)["point"] == 2
-    np.testing.assert_array_equal(result[RING].values, [3e8, 6e8])
+    np.testing.assert_array_equal(result[RING_DIM].values, [3e8, 6e8])
     expected = modal_analysis(
         assemble(
             replace_parameter(replace_parameter(case, SUN, 4e8), RING, 6e8),
@@ -128,9 +132,9 @@ def test_scene_parameters_apply_under_the_swept_ones(tmp_path, scheduler):
         changed = replace_parameter(replace_parameter(base, RING, 9e8), SUN, sun)
         expected = modal_analysis(assemble(changed, scene))
         np.testing.assert_allclose(
-            result.frequency.sel({SUN: sun}).values, expected.frequency.values, rtol=1e-10
+            result.frequency.sel({SUN_DIM: sun}).values, expected.frequency.values, rtol=1e-10
         )
-    assert result.strain_energy_fraction.dims == (SUN, "mode", "parameter")
+    assert result.strain_energy_fraction.dims == (SUN_DIM, "mode", "parameter")
 
 
 def test_rerun_computes_only_missing_points(tmp_path, scheduler):

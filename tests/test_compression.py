@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from pygear.analysis.channels import channel_names
 from pygear.analysis.transient_checks import signal_footprint, transient_footprint
 from pygear.io import COMPRESSED_SIZE, COMPRESSION_LEVEL, write_netcdf
 from pygear.runs.outputs import write_run_signals
@@ -37,7 +38,7 @@ def _dataset(samples: int) -> xr.Dataset:
 def test_large_variables_are_compressed_losslessly(tmp_path):
     original = _dataset(3 * COMPRESSED_SIZE)
     path = write_netcdf(original, tmp_path / "c.nc", title="test")
-    with xr.open_dataset(path) as read:
+    with xr.open_dataset(path, decode_times=False) as read:  # time as stored: seconds
         for name in ("noise", "ramp", "count", "time"):
             encoding = read[name].encoding
             assert encoding["zlib"] and encoding["shuffle"], name
@@ -74,11 +75,11 @@ def test_run_files_stay_within_the_disk_estimate(study_case, tmp_path):
     case = study_case.for_scene(scene)
     dataset, files = write_transient(case, scene, tmp_path, figure=False)
     spectra = write_run_signals(case, None, dataset, tmp_path, scene.name, figures=False)
-    channels = sum(variable.dims == ("time",) for variable in dataset.data_vars.values())
+    channels = len(channel_names(dataset))
     _, record, _ = transient_footprint(scene.transient, channels)
     analyses, _ = signal_footprint(scene.transient)
     assert len(spectra) == 2 and len(files) == 1
     assert files[0].stat().st_size <= record
     assert sum(p.stat().st_size for p in spectra) <= analyses
     with xr.open_dataset(files[0]) as read:
-        assert read["planetary_sun_speed"].encoding["zlib"]
+        assert read["speed"].encoding["zlib"]

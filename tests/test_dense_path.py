@@ -19,6 +19,7 @@ import pytest
 from conftest import rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import load_case
+from pygear.analysis.channels import channel_names, channel_series
 from pygear.analysis.transient import run_transient
 from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE, choose_linear_solver
@@ -49,9 +50,9 @@ def _both_paths(monkeypatch, case, scene) -> dict:
 def _study_tolerance(study_case, run) -> float:
     """Round-off of the study run-up: the sun-planet deflection against the sun's turn."""
     stage = study_case.gearbox.stages[0]
-    turn = float(np.abs(run["planetary_sun_speed"]).max()) * math.pi / 30  # rad/s
+    turn = float(np.abs(run.speed.sel(member="planetary.sun")).max()) * math.pi / 30  # rad/s
     angle = turn * run.attrs["duration"]
-    force = float(np.sqrt(np.mean(run["sun_planet1_mesh_force"].values ** 2)))
+    force = float(np.sqrt(np.mean(run.mesh_force.sel(mesh="planetary.sun-planet1").values ** 2)))
     amplification = rigid_to_elastic_ratio(
         stage.sun.base_radius, angle, force, stage.sun_mesh.stiffness
     )
@@ -62,11 +63,13 @@ def _assert_channels_agree(runs: dict, tolerance: float, round_off_only: dict) -
     """Every time channel of the two runs within tolerance of its scale; a channel that is
     zero in exact arithmetic is measured against the channel ``round_off_only`` names."""
     banded, dense = (runs[path] for path in PATHS)
-    channels = [name for name, values in banded.data_vars.items() if values.dims == ("time",)]
+    channels = channel_names(banded)
     assert channels
     for name in channels:
-        scale = float(np.abs(banded[round_off_only.get(name, name)].values).max())
-        difference = float(np.abs(dense[name].values - banded[name].values).max())
+        scale = float(np.abs(channel_series(banded, round_off_only.get(name, name)).values).max())
+        difference = float(
+            np.abs(channel_series(dense, name).values - channel_series(banded, name).values).max()
+        )
         assert difference <= tolerance * max(scale, 1e-300), name
 
 
@@ -81,7 +84,7 @@ def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch
     assert tolerance < 1e-4  # tight enough to see a wrong term
     # in-phase, equally spaced planets excite no ring translation: round-off on both
     _assert_channels_agree(
-        runs, tolerance, {"planetary_ring_y_acceleration": "planetary_sun_theta_z_acceleration"}
+        runs, tolerance, {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"}
     )
     banded, dense = (runs[path] for path in PATHS)
     assert dense.t_s.item() == pytest.approx(banded.t_s.item(), rel=tolerance)
@@ -98,8 +101,10 @@ def test_dense_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
     banded = runs["banded_cholesky"]
     assert banded.attrs["dof_count"] == 50
     pair = gearbox.gearbox.stages[2]
-    turned = float(np.abs(banded["parallel_input_gear_speed"]).max()) * math.pi / 30 * 0.05
-    force = float(np.sqrt(np.mean(banded["parallel_input_output_mesh_force"].values ** 2)))
+    turned = float(np.abs(banded.speed.sel(member="parallel.input_gear")).max()) * math.pi / 30
+    turned *= 0.05
+    force = banded.mesh_force.sel(mesh="parallel.input-output").values
+    force = float(np.sqrt(np.mean(force**2)))
     tolerance = roundoff_tolerance(
         banded.attrs["steps"],
         rigid_to_elastic_ratio(pair.input_gear.base_radius, turned, force, pair.mesh.stiffness),
@@ -135,7 +140,7 @@ def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, c
     iteration = 10.0 * math.sqrt(banded.attrs["steps"]) * banded.attrs["tolerance"]
     tolerance = max(_study_tolerance(study_case, banded), iteration)
     _assert_channels_agree(
-        runs, tolerance, {"planetary_ring_y_acceleration": "planetary_sun_theta_z_acceleration"}
+        runs, tolerance, {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"}
     )
 
 

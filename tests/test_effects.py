@@ -16,6 +16,7 @@ from conftest import (
 )
 
 from pygear import CaseError, Scene
+from pygear.analysis.channels import channel_names, channel_series
 from pygear.analysis.modal import modal_analysis
 from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
@@ -43,8 +44,9 @@ def planar_spatial_tolerance(study_case, run) -> float:
     the sun-planet deflection against the sun's rigid turn over the run."""
     stage = study_case.gearbox.stages[0]
     sun_mesh, sun = stage.sun_mesh, stage.sun
-    angle = float(np.abs(run["planetary_sun_speed"]).max()) * np.pi / 30 * run.attrs["duration"]
-    force = float(np.sqrt(np.mean(run["sun_planet1_mesh_force"].values ** 2)))
+    turn = float(np.abs(run.speed.sel(member="planetary.sun")).max()) * np.pi / 30
+    angle = turn * run.attrs["duration"]
+    force = float(np.sqrt(np.mean(run.mesh_force.sel(mesh="planetary.sun-planet1").values ** 2)))
     amplification = rigid_to_elastic_ratio(sun.base_radius, angle, force, sun_mesh.stiffness)
     return roundoff_tolerance(run.attrs["steps"], amplification)
 
@@ -60,15 +62,16 @@ def test_planar_run_equals_spatial_run_in_plane(study_case, planar_and_spatial):
     assert planar.attrs["dof_count"] == 18 and spatial.attrs["dof_count"] == 36
     tolerance = planar_spatial_tolerance(study_case, spatial)
     assert tolerance < 1e-5  # still tight enough to see a coupling
-    channels = [n for n, v in planar.data_vars.items() if v.dims == ("time",)]
+    channels = channel_names(planar)
     assert len(channels) == 10
     for name in channels:
-        a, b = planar[name].values, spatial[name].values
+        a, b = channel_series(planar, name).values, channel_series(spatial, name).values
         scale = max(np.abs(b).max(), 1e-300)
-        if name == "planetary_ring_y_acceleration":
+        if name == "acceleration:planetary.ring.y":
             # in phase, equally spaced planets excite no translation: round-off on both
             # sides; compare against the sun's acceleration scale instead
-            scale = np.abs(spatial["planetary_sun_theta_z_acceleration"].values).max()
+            sun = channel_series(spatial, "acceleration:planetary.sun.theta_z")
+            scale = np.abs(sun.values).max()
         assert np.abs(a - b).max() <= tolerance * scale, name
     speeds = planar.equilibrium_speed.values
     np.testing.assert_allclose(
@@ -181,11 +184,12 @@ runs = {
     dof_set: run_transient(case, dataclasses.replace(scene, dof_set=dof_set))
     for dof_set in ("planar", "spatial")
 }
-channels = [n for n, v in runs["planar"].data_vars.items() if v.dims == ("time",)]
+channels = channel_names(runs["planar"])
+series = {k: {n: channel_series(r, n).values for n in channels} for k, r in runs.items()}
 difference = {
-    n: float(np.abs(runs["planar"][n].values - runs["spatial"][n].values).max()) for n in channels
+    n: float(np.abs(series["planar"][n] - series["spatial"][n]).max()) for n in channels
 }
-scale = {n: float(np.abs(runs["spatial"][n].values).max()) for n in channels}
+scale = {n: float(np.abs(series["spatial"][n]).max()) for n in channels}
 print(json.dumps({"core": kernel_blas()["core"], "difference": difference, "scale": scale,
                   "steps": runs["spatial"].attrs["steps"]}))
 """
@@ -232,6 +236,6 @@ def test_planar_spatial_pair_under_a_forced_blas_core(study_case, core, tmp_path
     )
     for name, difference in report["difference"].items():
         scale = report["scale"][name]
-        if name == "planetary_ring_y_acceleration":
-            scale = report["scale"]["planetary_sun_theta_z_acceleration"]  # round-off only
+        if name == "acceleration:planetary.ring.y":
+            scale = report["scale"]["acceleration:planetary.sun.theta_z"]  # round-off only
         assert difference <= tolerance * max(scale, 1e-300), name

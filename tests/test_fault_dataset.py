@@ -14,11 +14,13 @@ from pygear.analysis.gear_average import gear_average, gear_indicator_values
 from pygear.analysis.gear_indicators import difference_signal
 from pygear.analysis.transient import run_transient
 from pygear.cli.parser import main
+from pygear.io import open_mfdataset
 from pygear.model.case import load_case
 from pygear.runs.fault_dataset import _grid, _record_case, plan_dataset, run_dataset
 
 CASE = "sequential_planetary"
-SENSOR = "ring_sensor_acceleration"
+SENSOR = "sensor_acceleration:ring_sensor"  # the channel of a run
+RECORD_SENSOR = "sensor_acceleration"  # a record's noisy series over time
 
 
 @pytest.mark.parametrize("gear", ["planetary.sun", "planetary.planet1"])
@@ -119,7 +121,7 @@ def test_dataset_labels_match_its_inputs(dataset_dir):
         assert speed == pytest.approx(float(data.speed_rpm[record]), rel=1e-3)
     # seeds differ in their noise only: same run, different sensor signal
     pair = data.where((data.severity == 0.2) & (data.speed_rpm == 120.0), drop=True)
-    assert not np.allclose(pair[SENSOR].isel(record=0), pair[SENSOR].isel(record=1))
+    assert not np.allclose(pair[RECORD_SENSOR].isel(record=0), pair[RECORD_SENSOR].isel(record=1))
     np.testing.assert_array_equal(
         pair.tachometer_angle.isel(record=0), pair.tachometer_angle.isel(record=1)
     )
@@ -133,7 +135,7 @@ def test_dataset_rerun_reuses_every_record(dataset_dir):
     np.testing.assert_array_equal(again.fm4.values, first.fm4.values)
     files = sorted(out.glob("record_*.nc"))
     assert len(files) == 20
-    with xr.open_mfdataset(files, combine="nested", concat_dim="record", join="outer") as records:
+    with open_mfdataset(files, concat_dim="record", join="outer") as records:
         assert records.sizes["record"] == 20
 
 
@@ -158,7 +160,7 @@ def test_analyze_tsa_prints_indicators_and_kurtogram(tmp_path, capsys):
     "argv, words",
     [
         (["--tsa", "moon"], ["--tsa 'moon'", "planetary.sun"]),
-        (["--tsa", "sun", "--channel", "ring_planet1_mesh_force"], ["not a sensor channel"]),
+        (["--tsa", "sun", "--channel", "mesh_force:planetary.ring-planet1"], ["not a sensor"]),
         (["--indicators"], ["--tsa GEAR"]),
     ],
 )

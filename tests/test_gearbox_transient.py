@@ -17,6 +17,7 @@ import xarray as xr
 from conftest import rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import CaseError, Probe, load_case
+from pygear.analysis.channels import channel_names, channel_series
 from pygear.analysis.transient import run_transient, transient_problem
 from pygear.assembly import assemble
 from pygear.assembly.dof_rows import dof_row
@@ -94,7 +95,7 @@ def _equivalent_inertia(case) -> float:
 def test_speeds_follow_the_kinematic_ratios(short_runs, gearbox_case, name):
     """Tables 7/8: every carrier, sun, planet and parallel gear on its ratio to 0.1 %."""
     run = short_runs[name]
-    speeds = dict(zip(run.member.values.tolist(), run.equilibrium_speed.values.tolist()))
+    speeds = dict(zip(run.body.values.tolist(), run.equilibrium_speed.values.tolist()))
     expected = _kinematic_speeds(gearbox_case, speeds["stage1.carrier"])
     for member, value in expected.items():
         assert speeds[member] == pytest.approx(value, rel=1e-3), member
@@ -125,16 +126,17 @@ def test_parallel_mesh_carries_the_load_torque(short_runs, gearbox_case):
     parallel = gearbox_case.gearbox.stages[2]
     inertia = parallel.output_gear.polar_inertia
     window = run.sel(time=slice(float(run.time[-1]) - 0.2, None))
-    normal_force = float(np.abs(window.parallel_input_output_mesh_force).mean())
+    mesh = window.mesh_force.sel(mesh="parallel.input-output")
+    normal_force = float(np.abs(mesh).mean())
     force = normal_force * math.cos(math.radians(parallel.base_helix_angle_deg))
-    speed = np.abs(window.parallel_output_gear_speed.values) * math.pi / 30
+    speed = np.abs(window.speed.sel(member="parallel.output_gear").values) * math.pi / 30
     span = float(window.time[-1] - window.time[0])
     acceleration = (speed[-1] - speed[0]) / span
     torque = float(window.load_torque.mean())
     damping = gearbox_case.damping.mass_coefficient * inertia * float(speed.mean())
     expected = (torque + damping + inertia * acceleration) / parallel.output_gear.base_radius
     assert force == pytest.approx(expected, rel=2e-3)
-    ripple = window.parallel_input_output_mesh_force.std()
+    ripple = mesh.std()
     assert float(ripple) > 1e-3 * normal_force  # the helical mesh's stiffness does vary
 
 
@@ -205,26 +207,26 @@ def test_spur_gearbox_is_planar_and_exact(gearbox_case):
     # round-off bound (conftest.roundoff_tolerance): the fastest pair, the parallel one,
     # turns furthest against its deflection
     pair = spur.gearbox.stages[2]
-    turned = float(np.abs(runs[1]["parallel_input_gear_speed"]).max()) * np.pi / 30 * 0.05
-    force = float(np.sqrt(np.mean(runs[1]["parallel_input_output_mesh_force"].values ** 2)))
+    turned = float(np.abs(runs[1].speed.sel(member="parallel.input_gear")).max()) * np.pi / 30
+    turned *= 0.05
+    force = runs[1].mesh_force.sel(mesh="parallel.input-output").values
+    force = float(np.sqrt(np.mean(force**2)))
     tolerance = roundoff_tolerance(
         runs[1].attrs["steps"],
         rigid_to_elastic_ratio(pair.input_gear.base_radius, turned, force, pair.mesh.stiffness),
     )
     assert tolerance < 1e-5  # still far below any coupling's effect
-    for name, values in runs[0].data_vars.items():
-        if values.dims != ("time",):
-            continue
-        reference = runs[1][name].values
+    for name in channel_names(runs[0]):
+        values, reference = (channel_series(run, name).values for run in runs)
         scale = np.abs(reference).max()
-        assert np.abs(values.values - reference).max() <= tolerance * scale, name
+        assert np.abs(values - reference).max() <= tolerance * scale, name
 
 
 def test_mesh_frequencies_of_every_stage(short_runs, gearbox_case):
     """Z_r n_c / 60 per planetary stage, Z_1 n_1 / 60 for the parallel pair."""
     run = short_runs["runup"]
     frequencies = mesh_frequency(gearbox_case, run)
-    speeds = dict(zip(run.member.values.tolist(), run.equilibrium_speed.values.tolist()))
+    speeds = dict(zip(run.body.values.tolist(), run.equilibrium_speed.values.tolist()))
     stage1, stage2, parallel = gearbox_case.gearbox.stages
     assert frequencies["stage1"] == pytest.approx(
         stage1.ring.teeth * speeds["stage1.carrier"] / 60, rel=1e-3

@@ -101,18 +101,18 @@ def test_run_without_figures_loads_no_plotting_and_no_dask(short_case, tmp_path)
     assert {"xarray", "netCDF4", "pyfftw"} <= top  # it did run, analyse and write
     assert top & {"matplotlib", "dask", "distributed"} == set()
     assert {"scipy.signal", "scipy.fftpack"} & modules == set()
-    assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "runup.nc",
-        "runup_planetary_ring_y_acceleration.nc",
-        "runup_planetary_sun_theta_z_acceleration.nc",
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["runup.nc", "spectra"]
+    assert sorted(p.name for p in (tmp_path / "spectra").iterdir()) == [
+        "runup_acceleration_planetary.ring.y.nc",
+        "runup_acceleration_planetary.sun.theta_z.nc",
     ]
 
 
 def test_run_draws_figures_after_every_netcdf_file(short_case, tmp_path):
     top = _top_level(_loaded("run", str(short_case), "--out", str(tmp_path), "--json"))
     assert "matplotlib" in top and top & {"dask", "distributed"} == set()
-    data = [p.stat().st_mtime_ns for p in tmp_path.glob("*.nc")]
-    figures = [p.stat().st_mtime_ns for p in tmp_path.glob("*.png")]
+    data = [p.stat().st_mtime_ns for p in tmp_path.rglob("*.nc")]
+    figures = [p.stat().st_mtime_ns for p in tmp_path.rglob("*.png")]
     assert len(data) == 3 and len(figures) == 3  # run file, two spectra; speeds, two spectra
     # every figure is renamed into place after the last NetCDF file (equal on a coarse clock)
     assert min(figures) >= max(data)

@@ -31,6 +31,7 @@ from pygear.analysis.order_tracking import (
 from pygear.analysis.signal import SignalError
 from pygear.assembly.matrices import assemble
 from pygear.cli import main
+from pygear.io import open_dataset
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 RING_TEETH = 96  # Z_r of the study case (Yang, Jiang & Han 2016, Table 1)
@@ -261,15 +262,15 @@ def run_file(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def run(run_file) -> xr.Dataset:
-    with xr.open_dataset(run_file) as opened:
+    with open_dataset(run_file) as opened:
         return opened.load()
 
 
 def test_integrated_speed_is_the_kernel_angle(run):
     """Average-acceleration Newmark updates q by h (v_n + v_n+1)/2: the trapezoid integral
     of the speed channel is the carrier's theta_z displacement, to round-off."""
-    from_speed = reference_angle(run.drop_vars("planetary_carrier_theta_z_displacement"), "carrier")
-    recorded = run["planetary_carrier_theta_z_displacement"].values
+    from_speed = reference_angle(run.drop_vars("rotation_displacement"), "carrier")
+    recorded = run.rotation_displacement.sel(rotation_dof="planetary.carrier.theta_z").values
     assert from_speed.source.startswith("trapezoid")
     # 6e4 additions of steps near 1e-3 rad to angles up to 18 rad: round-off <= 6e4 x
     # 2.2e-16 x 18 = 2.4e-10 rad (measured 1.4e-13)
@@ -307,13 +308,13 @@ def test_mesh_orders_are_the_tooth_numbers(study_case, run):
 def test_analyze_orders_json_and_files(run_file, tmp_path, capsys):
     out = tmp_path / "orders"
     argv = ["analyze", str(run_file), "--orders", "planetary.carrier", "--json"]
-    argv += ["--channel", "planetary_sun_theta_z_acceleration", "--max-order", "150"]
+    argv += ["--channel", "planetary.sun.theta_z", "--max-order", "150"]  # the label alone
     assert main([*argv, "--out", str(out)]) == 0
     result = json.loads(capsys.readouterr().out)
     for key in ("reference", "channel", "max_order", "orders", "mesh_orders", "files"):
         assert key in result
     assert result["reference"] == "planetary.carrier"
-    assert result["channel"] == "planetary_sun_theta_z_acceleration"
+    assert result["channel"] == "acceleration:planetary.sun.theta_z"
     assert result["max_order"] == 150.0
     assert result["mesh_orders"]["planetary"] == pytest.approx(RING_TEETH, rel=1e-6)
     # the sun's rotational acceleration carries the mesh order: a peak within one order

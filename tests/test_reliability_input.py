@@ -71,7 +71,7 @@ def _strict_json(text: str) -> object:
         "planet_tangential_speed",
         "time",
         "member",
-        "velocity",
+        "speed",
         "a/b",
         "__hidden",
         "",
@@ -218,7 +218,7 @@ def test_negative_drive_engages_the_load_as_the_mirror_image(mirrored_runs):
     assert np.all(backward.drive_torque.values == -10.0)
     late = backward.time > float(backward.t_s) + 0.05
     load = backward.load_torque.values[late]
-    sun = backward.planetary_sun_speed.values[late]
+    sun = backward.speed.sel(member="planetary.sun").values[late]
     assert np.all(load < 0) and np.all(sun < 0)
     np.testing.assert_allclose(load, -forward.load_torque.values[late], rtol=1e-9, atol=1e-9)
 

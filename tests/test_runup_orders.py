@@ -37,7 +37,7 @@ from pygear.assembly.dof_rows import dof_row, rigid_rotation
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
 SCENE = "runup_wide"
-CHANNEL = "planetary_sun_theta_z_acceleration"  # the sun's rotation sees the rotational modes
+CHANNEL = "acceleration:planetary.sun.theta_z"  # the sun's rotation sees the rotational modes
 WINDOW_REVOLUTIONS = 0.25  # order resolution 4 orders; mesh harmonics lie 96 apart
 HARMONICS = 10  # mesh harmonics crossed with the modes (order 960 at most)
 CLEAR_SHARE = 0.02  # mesh strain-energy share of a crossing the test asserts

@@ -18,6 +18,7 @@ from pygear.assembly import assemble
 from pygear.cli import batch
 from pygear.model.case import replace_parameter
 from pygear.runs import sweep
+from pygear.runs.sweep_points import dimension_name
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANETARY = ROOT / "cases" / "yang2016_planetary"
@@ -70,7 +71,8 @@ def grid(params, out, scheduler):
 def assert_on_their_values(result: xr.Dataset, pairs) -> None:
     for index, (sun, ring) in enumerate(pairs):
         point = result.sel(point=index)
-        assert float(point[SUN]) == sun and float(point[RING]) == ring
+        assert float(point[dimension_name(SUN)]) == sun
+        assert float(point[dimension_name(RING)]) == ring
         np.testing.assert_allclose(point.frequency.values, direct_frequencies(sun, ring), rtol=RTOL)
 
 

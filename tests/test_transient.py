@@ -22,10 +22,12 @@ import pytest
 import xarray as xr
 
 from pygear import CaseError, Probe, Scene, TorqueLaw
+from pygear.analysis.channels import channel_names
 from pygear.analysis.transient import run_transient, static_mesh_deflections, transient_problem
 from pygear.assembly import assemble
 from pygear.assembly.dof_rows import dof_row
 from pygear.cli import main
+from pygear.io import open_dataset
 from pygear.kernel.newmark import (
     BandedNewmark,
     KernelProbe,
@@ -180,8 +182,12 @@ def runups(study_case):
     return {f: run_transient(study_case, study_case.scene(s)) for f, s in SCENES.items()}
 
 
+def _sun_mesh(dataset: xr.Dataset) -> xr.DataArray:
+    return dataset.mesh_force.sel(mesh="planetary.sun-planet1")
+
+
 def _speed(dataset: xr.Dataset, member: str) -> float:
-    return float(dataset.equilibrium_speed.sel(member=member))
+    return float(dataset.equilibrium_speed.sel(body=f"planetary.{member}"))
 
 
 @pytest.mark.parametrize(
@@ -263,16 +269,18 @@ def test_cli_run_writes_transient_file(study_case, tmp_path, capsys):
     assert entry["planet_tangential_speed"] == pytest.approx(1.207, rel=0.002)
     assert entry["steps"] == 200000
     assert 0 < entry["solver_wall_s"] < entry["wall_s"] <= summary["wall_s"]
-    with xr.open_dataset(tmp_path / "runup_lin_parker.nc") as run:
+    with open_dataset(tmp_path / "runup_lin_parker.nc") as run:
         assert run.attrs["formulation"] == "lin-parker"
         assert run.attrs["Conventions"].startswith("CF")
         assert run.sizes["time"] == 200001  # 40 kHz over 5 s, with t = 0
         assert run.time.values[1] == pytest.approx(2.5e-5)
         for name, variable in run.variables.items():
-            if name not in ("member", "planet"):
-                assert "units" in variable.attrs and "long_name" in variable.attrs, name
-        assert "displacement" not in run  # no full state unless asked
-        assert run.planetary_ring_y_acceleration.attrs["units"] == "m/s^2"
+            assert "long_name" in variable.attrs, name
+            if variable.dtype.kind not in "OUS":  # labels are text: no units
+                assert "units" in variable.attrs, name
+        assert "translation_displacement" not in run  # no full state unless asked
+        ring = run.translation_acceleration.sel(translation_dof="planetary.ring.y")
+        assert ring.attrs["units"] == "m/s^2"
     assert (tmp_path / "runup_lin_parker_speeds.png").stat().st_size > 1000
     assert not list(tmp_path.glob(".*part"))
 
@@ -304,7 +312,7 @@ def modes(study_case):
 
 
 def test_modes_agree_where_all_converge(modes):
-    force = {m: d.sun_planet1_mesh_force.sel(time=slice(0.25, 0.3)) for m, d in modes.items()}
+    force = {m: _sun_mesh(d).sel(time=slice(0.25, 0.3)) for m, d in modes.items()}
     carrier = {m: _speed(d, "carrier") for m, d in modes.items()}
     # iterate and refactor solve the same implicit step
     assert np.max(np.abs(force["iterate"] - force["refactor"])) < 1e-4
@@ -352,7 +360,7 @@ def test_ctrl_c_stops_between_chunks_and_resumes(study_case, tmp_path):
     assert checkpoint.is_file()
     resumed = run_transient(study_case, scene, resume=checkpoint)
     whole = run_transient(study_case, scene)
-    np.testing.assert_array_equal(resumed.sun_planet1_mesh_force, whole.sun_planet1_mesh_force)
+    np.testing.assert_array_equal(_sun_mesh(resumed), _sun_mesh(whole))
     assert float(resumed.t_s) == float(whole.t_s)
 
 
@@ -410,8 +418,8 @@ def test_cli_checkpoint_and_resume(study_case, tmp_path, capsys, monkeypatch):
     assert main([*argv, "--resume", "--json"]) == 0
     assert not (tmp_path / f"{scene.name}.checkpoint.npz").exists()
     whole = run_transient(study_case, scene)
-    with xr.open_dataset(tmp_path / f"{scene.name}.nc") as resumed:
-        np.testing.assert_array_equal(resumed.sun_planet1_mesh_force, whole.sun_planet1_mesh_force)
+    with open_dataset(tmp_path / f"{scene.name}.nc") as resumed:
+        np.testing.assert_array_equal(_sun_mesh(resumed), _sun_mesh(whole))
     capsys.readouterr()
 
 
@@ -495,11 +503,14 @@ def test_probes_keep_only_what_is_asked(study_case):
     probes = (Probe("speed", "planetary.sun"), Probe("bearing_force", "planetary.ring_bearing.y"))
     scene = _short_scene(study_case, 2.5e-5, "predictor", duration=0.01, probes=probes)
     run = run_transient(study_case, scene)
-    series = [n for n, v in run.data_vars.items() if v.dims == ("time",)]
-    assert series == ["planetary_sun_speed", "planetary_ring_bearing_y_bearing_force"]
-    assert run.planetary_ring_bearing_y_bearing_force.attrs["units"] == "N"
+    assert channel_names(run) == ["speed:planetary.sun", "bearing_force:planetary.ring_bearing.y"]
+    assert run.speed.dims == ("member", "time") and run.bearing_force.sizes["bearing"] == 1
+    assert run.bearing_force.attrs["units"] == "N"
     full = run_transient(
         study_case,
         _short_scene(study_case, 2.5e-5, "predictor", duration=0.01, full_state=True),
     )
-    assert full.acceleration.dims == ("time", "dof") and full.sizes["dof"] == 18
+    # the planar model's 18 DOFs: x, y, theta_z of the carrier, ring and sun, zeta, eta,
+    # theta_z of each of 3 planets; translations and rotations apart (one unit each)
+    assert full.translation_acceleration.dims == ("translation_dof", "time")
+    assert full.sizes["translation_dof"] == 12 and full.sizes["rotation_dof"] == 6

@@ -105,7 +105,7 @@ stage = PlanetaryStage(
 
 # --- the sensor ----------------------------------------------------------------------------
 RING_SENSOR = Sensor(
-    name="ring_sensor",  # records ring_sensor_acceleration
+    name="ring_sensor",  # recorded as sensor_acceleration(sensor="ring_sensor", time)
     stage="planetary",
     angle_deg=90.0,  # at the top
     direction="radial",
@@ -143,7 +143,7 @@ STEADY = Transient(
     speed_reference_rpm=CARRIER_SPEED_RPM,
     initial_speed_rpm=CARRIER_SPEED_RPM,  # start turning: no run-up from rest
     probes=(
-        Probe("sensor", "ring_sensor", name="ring_sensor_acceleration"),
+        Probe("sensor", "ring_sensor"),
         Probe("displacement", "planetary.carrier.theta_z"),  # angles for synchronous averages
         Probe("displacement", "planetary.sun.theta_z"),
         Probe("displacement", "planetary.planet1.theta_z"),  # spin relative to the carrier

@@ -206,7 +206,7 @@ RUNUP_WIDE = Transient(
 # Each planet's ring-mesh force reaches it through a Hann window of the planet's angle
 # from the sensor (McFadden & Smith 1985) and the ring's bearing force directly.
 RING_SENSOR = Sensor(
-    name="ring_sensor",  # records ring_sensor_acceleration
+    name="ring_sensor",  # recorded as sensor_acceleration(sensor="ring_sensor", time)
     stage="planetary",
     angle_deg=90.0,  # at the top, +y
     direction="radial",
@@ -223,7 +223,7 @@ RING_SENSOR = Sensor(
 RUNUP_SENSOR = dataclasses.replace(
     RUNUP,
     probes=(
-        Probe("sensor", "ring_sensor", name="ring_sensor_acceleration"),
+        Probe("sensor", "ring_sensor"),
         Probe("displacement", "planetary.carrier.theta_z"),  # angle for synchronous averages
         Probe("displacement", "planetary.sun.theta_z"),
         Probe("displacement", "planetary.planet1.theta_z"),  # spin relative to the carrier

@@ -37,6 +37,7 @@ from ..kernel.calls import KernelError
 from ..model.case import FORMULATIONS, Case, Scene, load_case_module
 from ..model.scene_settings import scene_settings
 from .accuracy_report import accuracy_table_text, grid_dataset, recommendation
+from .channels import channel_series, run_channels
 
 __all__ = [
     "AccuracyStudy",
@@ -243,19 +244,19 @@ def run_setting(case: Case, scene: Scene, formulation: str, repeats: int, after:
     window = float(run.attrs["mean_window"])
     late = run.sel(time=slice(float(run.time[-1]) - window, None))
     values = {"t_s": float(run.t_s)}
-    for member, speed in zip(run.member.values, run.equilibrium_speed.values):
+    for member, speed in zip(run.body.values, run.equilibrium_speed.values):
         values[f"equilibrium_speed:{member}"] = float(speed)
     spectra = {}
-    for name, variable in run.data_vars.items():
-        if variable.dims != ("time",):
-            continue
-        if name.endswith("mesh_force"):
-            dynamic = late[name].values - late[name].values.mean()
-            values[f"mesh_force_rms:{name}"] = float(np.sqrt(np.mean(dynamic**2)))
-            values[f"mesh_force_peak:{name}"] = float(np.abs(dynamic).max())
-        elif str(variable.attrs.get("units", "")).endswith("s^2"):
+    for name, (variable, _, label) in run_channels(run).items():
+        if variable == "mesh_force":
+            force = channel_series(late, name).values
+            dynamic = force - force.mean()
+            values[f"mesh_force_rms:{label}"] = float(np.sqrt(np.mean(dynamic**2)))
+            values[f"mesh_force_peak:{label}"] = float(np.abs(dynamic).max())
+        elif str(run[variable].attrs.get("units", "")).endswith("s^2"):
             try:
-                spectrum = amplitude_spectrum(variable, after=after, remove_mean=True)
+                series = channel_series(run, name)
+                spectrum = amplitude_spectrum(series, after=after, remove_mean=True)
             except SignalError:
                 continue
             spectra[name] = (spectrum.frequency.values, spectrum.values)

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from .channels import channel_series, run_channels
 from .peaks import find_peaks
 from .signal import (
     SignalError,
@@ -54,29 +55,33 @@ class RunAnalysis:
 
 
 def pick_channel(run: xr.Dataset, channel: str | None) -> str:
-    """The channel to analyse: the one named, else the first acceleration on ``time``.
+    """The channel to analyse: the one named, else the run's first acceleration.
+
+    A channel is named as :mod:`pygear.analysis.channels` reads it: ``<kind>:<label>``
+    (``acceleration:planetary.sun.theta_z``), the label alone when one channel has it,
+    or the name of a variable over ``time`` alone.
 
     Raises
     ------
     SignalError
         Naming ``--channel`` and the channels the run holds.
     """
-    candidates = [name for name, v in run.data_vars.items() if v.dims == ("time",)]
+    channels = run_channels(run)
     if channel is not None:
-        if channel not in candidates:
+        series = channel_series(run, channel)
+        if series is None:
             raise SignalError(
                 f"--channel: {channel!r} is not a time series of this run "
-                f"(channels: {', '.join(candidates) or 'none'})"
+                f"(channels: {', '.join(channels) or 'none'})"
             )
-        return channel
-    for name in candidates:
-        if "s^2" in str(run[name].attrs.get("units", "")) or "s-2" in str(
-            run[name].attrs.get("units", "")
-        ):
+        return str(series.attrs["channel"])
+    for name, (variable, _, _) in channels.items():
+        units = str(run[variable].attrs.get("units", ""))
+        if "s^2" in units or "s-2" in units:
             return name
-    if not candidates:
+    if not channels:
         raise SignalError("the run holds no time series to analyse")
-    return candidates[0]
+    return next(iter(channels))
 
 
 def analyze_channel(
@@ -109,7 +114,7 @@ def analyze_channel(
         Peaks per table.
     """
     name = pick_channel(run, channel)
-    signal = run[name]
+    signal = channel_series(run, name)
     # the record from `after`, its last few samples dropped for a fast FFT length
     kept = int(np.count_nonzero(signal["time"].values >= after))
     signal = signal.isel(time=slice(signal.sizes["time"] - kept, None))

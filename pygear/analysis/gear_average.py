@@ -14,9 +14,10 @@ all the synchronous averages need.  :func:`gear_average` picks the right one:
   tooth once per carrier turn).
 
 The windows are the sensor's own (its angle, width and shape), so a planet is averaged
-where the sensor hears it.  Everything comes from the run file: the sensor channel's
-attributes carry the sensor, the planets' positions and the tooth counts
-(:func:`pygear.analysis.sensor_signal.sensor_signal`), so no case file is read.  The
+where the sensor hears it.  Everything comes from the run file: the sensor's
+coordinates carry its position, window, the planets' positions and the tooth counts
+(:func:`pygear.analysis.channels.channel_series` gives them to one sensor's series as
+attributes), so no case file is read.  The
 mesh order of the indicators is the gear's tooth count.
 """
 
@@ -28,6 +29,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import CaseError
+from .channels import channel_names, channel_series, find_channel
 from .gear_indicators import gear_indicators
 from .synchronous_average import (
     angle_from_tachometer,
@@ -37,25 +39,30 @@ from .synchronous_average import (
     time_synchronous_average,
 )
 
-__all__ = ["angle_variable", "gear_average", "gear_indicator_values", "parse_gear"]
+__all__ = ["gear_average", "gear_indicator_values", "member_angle", "parse_gear"]
 
 
-def angle_variable(stage: str, member: str) -> str:
-    """The name a run gives the angle probe of ``stage.member`` (theta_z displacement)."""
-    return f"{stage}_{member}_theta_z_displacement"
+def member_angle(run: xr.Dataset, stage: str, member: str) -> xr.DataArray | None:
+    """The angle of ``stage.member`` (its theta_z displacement) recorded by ``run``, or
+    None (:func:`pygear.analysis.channels.find_channel`)."""
+    return find_channel(run, "displacement", f"{stage}.{member}.theta_z")
 
 
 def _sensor_attributes(run: xr.Dataset, channel: str) -> dict:
-    if channel not in run:
-        raise CaseError(f"--channel: the run has no variable {channel!r}")
-    attrs = run[channel].attrs
+    series = channel_series(run, channel)
+    sensors = [n for n in channel_names(run) if n.startswith("sensor_acceleration:")]
+    if series is None:
+        raise CaseError(
+            f"--channel: the run has no channel {channel!r} "
+            f"(sensor channels: {', '.join(sensors) or 'none'})"
+        )
+    attrs = series.attrs
     if attrs.get("quantity") != "sensor" or "sensor_teeth_sun_planet_ring" not in attrs:
-        sensors = [n for n, v in run.data_vars.items() if v.attrs.get("quantity") == "sensor"]
         raise CaseError(
             f"--channel {channel!r} is not a sensor channel (a gear's windowed average needs "
             f"the sensor's angle and window; sensor channels: {', '.join(sensors) or 'none'})"
         )
-    return attrs
+    return dict(attrs)
 
 
 def parse_gear(gear: str, stage: str, planets: int) -> str:
@@ -72,13 +79,13 @@ def parse_gear(gear: str, stage: str, planets: int) -> str:
 
 
 def _angle(run: xr.Dataset, stage: str, member: str, gear: str) -> xr.DataArray:
-    name = angle_variable(stage, member)
-    if name not in run:
+    angle = member_angle(run, stage, member)
+    if angle is None:
         raise CaseError(
-            f"the run has no channel {name!r}, which the average of {gear} needs: record "
-            f"it with Probe('displacement', '{stage}.{member}.theta_z')"
+            f"the run has no angle of {stage}.{member}.theta_z, which the average of {gear} "
+            f"needs: record it with Probe('displacement', '{stage}.{member}.theta_z')"
         )
-    return run[name]
+    return angle
 
 
 def _tachometer_angles(
@@ -134,7 +141,8 @@ def gear_average(
     gear : str
         ``sun``, ``ring`` or ``planet<n>`` of the sensor's stage (``<stage>.`` may lead).
     channel : str
-        A sensor channel of the run.
+        A sensor channel of the run (``sensor_acceleration:<sensor>``, the sensor's
+        name, or a named sensor probe's variable).
     samples_per_tooth : int
         Angle steps per tooth period; the average has ``teeth x samples_per_tooth``.
     tachometer : int, optional
@@ -168,7 +176,7 @@ def gear_average(
             run, carrier, (sun, planet, ring), tachometer, jitter, seed
         )
         carrier = derived["carrier"]
-    signal = run[channel]
+    signal = channel_series(run, channel)
     window = {
         "sensor_angle_rad": math.radians(float(attrs["sensor_angle_deg"])),
         "width_rad": math.radians(float(attrs["sensor_window_width_deg"])),

@@ -330,7 +330,11 @@ def modal_dataset(result: ModalResult) -> xr.Dataset:
             ),
         },
         coords={
-            "mode": ("mode", np.arange(1, frequencies.size + 1), {"long_name": "mode number"}),
+            "mode": (
+                "mode",
+                np.arange(1, frequencies.size + 1),
+                {"units": "1", "long_name": "mode number"},
+            ),
             "dof": (
                 "dof",
                 np.array(result.dof_labels, dtype=object),

@@ -145,6 +145,7 @@ def plan_order_tracking(
         One line naming the parameter and the rule it breaks.
     """
     from .analyze import pick_channel
+    from .channels import channel_series
 
     angle = reference_angle(run, reference)
     name = pick_channel(run, channel)
@@ -207,7 +208,7 @@ def plan_order_tracking(
             f"sampling resolves, f_s / (2 n_max) = {sample_rate:g} Hz / (2 x {top_rev_s:.4g} "
             f"rev/s) = {resolvable:.4g}"
         )
-    values = run[name].values[start - CHANNEL_PAD : stop + CHANNEL_PAD]
+    values = channel_series(run, name).values[start - CHANNEL_PAD : stop + CHANNEL_PAD]
     if not np.issubdtype(values.dtype, np.number) or np.iscomplexobj(values):
         raise SignalError(f"--channel: {name!r} must hold real numbers (dtype {values.dtype})")
     if not np.all(np.isfinite(values)):

@@ -35,6 +35,7 @@ from ..assembly.dof_rows import dof_row, rigid_rotation
 from ..assembly.matrices import Model
 from ..errors import CaseError
 from ..model.case import Case
+from .channels import channel_series, run_channels
 from .signal import SignalError
 
 __all__ = [
@@ -77,22 +78,23 @@ class AngleReference:
 
 
 def reference_members(run: xr.Dataset) -> dict[str, dict[str, str]]:
-    """Members with an angle or speed channel: ``{member: {"angle": var, "speed": var}}``.
+    """Members with an angle or speed channel: ``{member: {"angle": name, "speed": name}}``
+    (channel names, :mod:`pygear.analysis.channels`).
 
-    Channels are recognised by the attributes pygear's probes write (``quantity``,
-    ``target``, ``units``), never by their names.
+    Channels are recognised by their kind and label (``speed:<stage.member>``, the
+    ``displacement`` of ``<stage.member>.theta_z``) or, for a named probe's variable, by
+    the attributes pygear's probes write (``quantity``, ``target``, ``units``).
     """
     found: dict[str, dict[str, str]] = {}
-    for name, variable in run.data_vars.items():
-        if variable.dims != ("time",):
-            continue
-        quantity = variable.attrs.get("quantity")
-        target = str(variable.attrs.get("target", ""))
-        units = str(variable.attrs.get("units", ""))
+    for name, (variable, _, label) in run_channels(run).items():
+        attrs = run[variable].attrs
+        quantity = attrs.get("quantity")
+        target = str(label if label is not None else attrs.get("target", ""))
+        units = str(attrs.get("units", ""))
         if quantity == "speed" and units == "rpm" and target:
-            found.setdefault(target, {}).setdefault("speed", str(name))
+            found.setdefault(target, {}).setdefault("speed", name)
         elif quantity == "displacement" and units == "rad" and target.endswith(".theta_z"):
-            found.setdefault(target.removesuffix(".theta_z"), {}).setdefault("angle", str(name))
+            found.setdefault(target.removesuffix(".theta_z"), {}).setdefault("angle", name)
     return found
 
 
@@ -112,7 +114,7 @@ def _match(members: dict, member: str) -> str:
 
 
 def _series(run: xr.Dataset, name: str, what: str) -> np.ndarray:
-    values = np.asarray(run[name].values, dtype=float)
+    values = np.asarray(channel_series(run, name).values, dtype=float)
     if not np.all(np.isfinite(values)):
         raise SignalError(f"--orders: the {what} channel {name!r} holds NaN or inf")
     return values
@@ -160,9 +162,9 @@ def reference_angle(run: xr.Dataset, member: str) -> AngleReference:
 
 
 def _equilibrium_speed(run: xr.Dataset, member: str) -> float | None:
-    if "equilibrium_speed" not in run or "member" not in run.coords:
+    if "equilibrium_speed" not in run or "body" not in run.coords:
         return None
-    for key, value in zip(run["member"].values.tolist(), run["equilibrium_speed"].values):
+    for key, value in zip(run["body"].values.tolist(), run["equilibrium_speed"].values):
         if key == member or ("." not in key and member.endswith(f".{key}")):
             return float(value)
     return None
@@ -178,7 +180,7 @@ def stored_mesh_orders(run: xr.Dataset, member: str) -> dict[str, float]:
     ----------
     run : xarray.Dataset
         A ``pygear run`` file with ``mesh_frequency`` over ``mesh_stage`` and
-        ``equilibrium_speed`` over ``member``.
+        ``equilibrium_speed`` over ``body``.
     member : str
         The reference member (``planetary.carrier``).
 

@@ -37,6 +37,7 @@ import numpy as np
 import xarray as xr
 
 from .angle_resampling import crossing_times
+from .channels import channel_series
 from .order_plan import CHANNEL_PAD, OrderPlan, plan_order_tracking
 from .order_references import stored_mesh_orders
 from .signal import _fft_options, _one_sided_amplitude
@@ -82,7 +83,7 @@ def resample_to_angle(plan: OrderPlan, run: xr.Dataset) -> xr.DataArray:
     revolutions = np.arange(first, last + 1) / spr
     targets = revolutions * 2 * math.pi
     crossing = crossing_times(time, angle, speed, targets)  # in blocks: bounded memory
-    signal = run[plan.channel]
+    signal = channel_series(run, plan.channel)
     padded = slice(start - CHANNEL_PAD, stop + CHANNEL_PAD)
     values = np.asarray(signal.values[padded], dtype=float)  # finite: checked by the plan
     from scipy.interpolate import make_interp_spline

@@ -66,6 +66,7 @@ class SensorPlan:
     bearing_channels: tuple[str, str] | None
     window_width: float  # [rad]
     teeth: tuple[int, int, int]  # sun, planet, ring (0: not given)
+    named: bool = False  # the probe has a name: its own variable, not sensor_acceleration
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -192,6 +193,7 @@ def sensor_plan(
         bearing_channels=bearing,
         window_width=sensor.width_rad(stage.planets),
         teeth=tuple(int(stage.gear_teeth(m) or 0) for m in ("sun", "planet1", "ring")),
+        named=bool(probe.name),
     )
     return plan, kernel
 
@@ -266,10 +268,11 @@ def sensor_carrier_orders(
     Parameters
     ----------
     run : xarray.Dataset
-        A run with the sensor channel and its stage's carrier angle channel
-        (``<stage>_carrier_theta_z_displacement``).
+        A run with the sensor channel and its stage's carrier angle (the displacement
+        of ``<stage>.carrier.theta_z``).
     channel : str
-        The sensor channel.
+        The sensor channel (``sensor_acceleration:<sensor>``, the sensor's name, or a
+        named sensor probe's variable).
     revolutions : int, optional
         Revolutions analysed (default: every whole one in the second half of the run).
     steps_per_revolution : int
@@ -282,13 +285,18 @@ def sensor_carrier_orders(
         the number of revolutions used.
     """
     from .angle_resampling import crossing_times, local_cubic, monotone_slopes
+    from .channels import channel_series, find_channel
 
-    stage = run[channel].attrs["sensor_stage"]
-    name = f"{stage}_carrier_theta_z_displacement"
-    if name not in run:
-        raise CaseError(f"the run has no carrier angle {name!r} for the sensor's carrier orders")
+    signal = channel_series(run, channel)
+    if signal is None or "sensor_stage" not in signal.attrs:
+        raise CaseError(f"{channel!r} is not a sensor channel of the run")
+    target = f"{signal.attrs['sensor_stage']}.carrier.theta_z"
+    carrier = find_channel(run, "displacement", target)
+    if carrier is None:
+        raise CaseError(f"the run has no carrier angle {target!r} for the sensor's carrier orders")
     time = run.time.values
-    angle = run[name].values * (1.0 if run[name].values[-1] >= run[name].values[0] else -1.0)
+    values = carrier.values
+    angle = values * (1.0 if values[-1] >= values[0] else -1.0)
     turns = (angle[-1] - angle[0]) / (2 * math.pi)
     available = int(math.floor(turns / 2)) if revolutions is None else int(revolutions)
     if available < 1 or available > turns:
@@ -301,7 +309,7 @@ def sensor_carrier_orders(
         available - np.arange(available * steps_per_revolution) / steps_per_revolution
     )
     crossings = crossing_times(time, angle, monotone_slopes(time, angle), targets)
-    resampled = local_cubic(time, run[channel].values, crossings)
+    resampled = local_cubic(time, signal.values, crossings)
     spectrum = np.abs(np.fft.rfft(resampled)) / resampled.size * 2
     amplitude = spectrum[::available]
     amplitude[0] /= 2  # the mean

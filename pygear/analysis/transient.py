@@ -2,9 +2,10 @@
 
 :func:`transient_problem` turns a case and a scene with ``Transient`` settings into
 a :class:`~pygear.kernel.newmark.BandedNewmark` integrator with its laws, meshes and
-probes; :func:`run_transient` runs it and returns an ``xarray.Dataset`` (one
-variable per probe over ``time``, the equilibrium speeds, t_s and every setting as
-attributes).  Writing it to files is :func:`pygear.runs.transient_outputs.write_transient`.
+probes; :func:`run_transient` runs it and returns an ``xarray.Dataset`` (the probes
+grouped by kind over ``time`` and named labels, docs/data_model.md; the equilibrium
+speeds, t_s and every setting as attributes).  Writing it to files is
+:func:`pygear.runs.transient_outputs.write_transient`.
 """
 
 from __future__ import annotations
@@ -36,7 +37,8 @@ from ..kernel.probes import RPM_PER_RAD_S, state_probes
 from ..model.case import Case, Scene, defects_json
 from ..model.components import PlanetaryStage
 from ..model.transient_settings import TorqueLaw, Transient
-from .sensor_signal import compile_scene_probes, sensor_signal
+from .run_layout import grouped_variables, sensor_coordinates
+from .sensor_signal import AUXILIARY_PREFIX, compile_scene_probes, sensor_signal
 from .transient_checks import (
     check_static_deflection,
     check_transient_memory,
@@ -49,6 +51,7 @@ __all__ = [
     "equilibrium_table",
     "runup_table_text",
     "transient_summary",
+    "member_speeds",
     "static_mesh_deflections",
     "run_transient",
     "transient_problem",
@@ -289,16 +292,16 @@ def transient_problem(
 def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
     """Member speeds [rpm] and planet tangential speeds [m/s] from mean DOF velocities.
 
-    Keys are member names (``carrier``, ``sun``, ``planet1``; ``stage.member`` with
-    several stages).  A planet's speed is its theta_z DOF: the spin relative to the
-    carrier (improved, consistent) or in the carrier frame (lin-parker).
+    Keys are the bodies' names (``planetary.carrier``, ``stage1.sun``), as a run file's
+    ``body`` and ``member`` coordinates give them.  A planet's speed is its theta_z DOF:
+    the spin relative to the carrier (improved, consistent) or in the carrier frame
+    (lin-parker).
     """
-    stages = {node.name.split(".", 1)[0] for node in model.nodes if node.role != "housing"}
     speeds, tangential = {}, {}
     for node in model.nodes:
         if node.role == "housing":
             continue
-        key = node.name.split(".", 1)[1] if len(stages) == 1 else node.name
+        key = node.name
         row = dof_row(model, f"{node.name}.theta_z")
         if row is not None:
             speeds[key] = float(row @ mean_velocity * RPM_PER_RAD_S)
@@ -399,42 +402,35 @@ def checkpoint_identity(problem: TransientProblem) -> str:
 
 
 def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
+    """The run as docs/data_model.md lays it out: channels grouped by kind over labels."""
     model, settings, solver = problem.model, problem.settings, problem.solver
-    time_attrs = {"units": "s", "long_name": "time", "standard_name": "time"}
-    data_vars = {}
-    state = {}
+    series = []
     auxiliary = {}
     for probe, values in zip(problem.probes, result.samples):
-        if problem.sensors and probe.name.startswith("_sensor_"):
+        if problem.sensors and probe.name.startswith(AUXILIARY_PREFIX):
             auxiliary[probe.name] = values
-        elif probe.name.startswith("__"):
-            state.setdefault(probe.kind, []).append(values)
-        else:
-            if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
-                values = problem.drive_sign * values
-            data_vars[probe.name] = (("time",), values, probe.attrs)
+            continue
+        if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
+            values = problem.drive_sign * values
+        series.append((probe.name, values, probe.attrs))
+    sensors = []
     if problem.sensors:
         rate = 1.0 / (settings.decimation * settings.time_step)
         for plan in problem.sensors:
             values, attrs = sensor_signal(plan, auxiliary, rate)
-            data_vars[plan.variable] = (("time",), values, attrs)
-    units = {
-        "displacement": "m or rad",
-        "velocity": "m/s or rad/s",
-        "acceleration": "m/s^2 or rad/s^2",
-    }
-    for kind, rows in state.items():
-        data_vars[kind] = (
-            ("time", "dof"),
-            np.array(rows).T,
-            {"units": units[kind], "long_name": f"{kind} of every DOF"},
-        )
+            if plan.named:
+                series.append((plan.variable, values, {**attrs, "named": True}))
+            else:
+                series.append((plan.variable, values, {**attrs, "label": plan.sensor.name}))
+                sensors.append((plan.sensor.name, attrs))
+    data_vars, coords = grouped_variables(series)
+    coords.update(sensor_coordinates(sensors))
     table = equilibrium_table(model, result.mean_velocity)
-    members = list(table["speed_rpm"])
+    bodies = list(table["speed_rpm"])
     planets = list(table["tangential_speed"])
     data_vars["equilibrium_speed"] = (
-        ("member",),
-        np.array([table["speed_rpm"][m] for m in members]),
+        ("body",),
+        np.array([table["speed_rpm"][m] for m in bodies]),
         {
             "units": "rpm",
             "long_name": f"mean theta_z speed over the last {settings.mean_window:g} s",
@@ -453,13 +449,13 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         result.t_s,
         {"units": "s", "long_name": "first instant the input speed reaches omega_0"},
     )
-    coords = {
-        "time": ("time", result.time, time_attrs),
-        "member": ("member", members, {"long_name": "body (theta_z speed)"}),
-        "planet": ("planet", planets, {"long_name": "planet"}),
-    }
-    if state:
-        coords["dof"] = ("dof", model.dof_labels, {"long_name": "reduced DOF"})
+    coords.update(
+        {
+            "time": ("time", result.time, {"units": "s", "long_name": "time since the start"}),
+            "body": ("body", np.array(bodies, dtype=object), {"long_name": "rotating body"}),
+            "planet": ("planet", np.array(planets, dtype=object), {"long_name": "planet"}),
+        }
+    )
     c = solver.coefficients
     attrs = {
         "case": problem.case.name,
@@ -497,27 +493,37 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         **effect_attributes(model, solver.equivalent_load),  # pygear.assembly.effects
     }
     attrs["tooth_defects"] = defects_json(problem.case, problem.scene)
-    ring = _first_ring_teeth(problem.case)
-    if ring and "carrier" in table["speed_rpm"]:
-        attrs["mesh_frequency_hz"] = ring * table["speed_rpm"]["carrier"] / 60.0
+    ring, carrier = _first_ring_teeth(problem.case)
+    if ring and carrier in table["speed_rpm"] and len(problem.case.gearbox.stages) == 1:
+        attrs["mesh_frequency_hz"] = ring * table["speed_rpm"][carrier] / 60.0
     return xr.Dataset(data_vars, coords, attrs)
 
 
-def _first_ring_teeth(case: Case) -> int | None:
+def _first_ring_teeth(case: Case) -> tuple[int | None, str]:
+    """The ring's tooth count and the carrier's body name of the first planetary stage."""
     for stage in case.gearbox.stages:
         if isinstance(stage, PlanetaryStage):
-            return stage.ring.teeth
-    return None
+            return stage.ring.teeth, f"{stage.name}.carrier"
+    return None, ""
+
+
+def member_speeds(dataset: xr.Dataset) -> dict[str, float]:
+    """Equilibrium speeds [rpm] by member: ``carrier``, ``sun``, ... for a single stage
+    (its name dropped), ``stage.member`` for a gearbox."""
+    speeds = dict(zip(dataset.body.values.tolist(), dataset.equilibrium_speed.values.tolist()))
+    stages = {str(name).split(".", 1)[0] for name in speeds}
+    if len(stages) != 1:
+        return speeds
+    return {str(name).split(".", 1)[1]: value for name, value in speeds.items()}
 
 
 def transient_summary(dataset: xr.Dataset) -> dict:
     """The numbers ``pygear run --json`` prints for a transient scene."""
-    speeds = dict(zip(dataset.member.values.tolist(), dataset.equilibrium_speed.values.tolist()))
     tangential = dataset.planet_tangential_speed.values
     t_s = float(dataset.t_s)
     return {
         "t_s": t_s if math.isfinite(t_s) else None,
-        "equilibrium_speed_rpm": speeds,
+        "equilibrium_speed_rpm": member_speeds(dataset),
         "planet_tangential_speed": float(tangential[0]) if tangential.size else None,
         "steps": int(dataset.attrs["steps"]),
         "solver_wall_s": float(dataset.attrs["solver_wall_s"]),
@@ -529,25 +535,20 @@ def runup_table_text(datasets: dict[str, xr.Dataset]) -> str:
     """The run-up table (the seed's Table 3) of several runs side by side."""
     names = list(datasets)
     rows = [("", [datasets[n].attrs["formulation"] for n in names])]
+    speeds = {n: member_speeds(datasets[n]) for n in names}
 
-    def speed(ds: xr.Dataset, member: str) -> float:
-        match = [v for m, v in zip(ds.member.values, ds.equilibrium_speed.values) if m == member]
-        return float(match[0]) if match else math.nan
+    def speed(name: str, member: str) -> float:
+        return speeds[name].get(member, math.nan)
 
     rows.append(("t_s [s]", [f"{float(datasets[n].t_s):.4f}" for n in names]))
-    members = list(datasets[names[0]].member.values)
+    members = list(speeds[names[0]])
     if "carrier" not in members:  # a gearbox: every member's speed, stage by stage
         for member in members:
-            rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
+            rows.append((f"{member} [rpm]", [f"{speed(n, member):.3f}" for n in names]))
         return _table_text(names, rows)
     for member in ("carrier", "sun", "planet1"):
-        rows.append((f"{member} [rpm]", [f"{speed(datasets[n], member):.3f}" for n in names]))
-    rows.append(
-        (
-            "sun/carrier",
-            [f"{speed(datasets[n], 'sun') / speed(datasets[n], 'carrier'):.5f}" for n in names],
-        )
-    )
+        rows.append((f"{member} [rpm]", [f"{speed(n, member):.3f}" for n in names]))
+    rows.append(("sun/carrier", [f"{speed(n, 'sun') / speed(n, 'carrier'):.5f}" for n in names]))
     rows.append(
         (
             "planet1 tangential [m/s]",

@@ -92,21 +92,23 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     """Handler of ``pygear analyze RUN.nc --tsa GEAR [--indicators] [--json]``."""
     import xarray as xr
 
+    from ..analysis.channels import channel_series, run_channels
     from ..analysis.gear_average import gear_average, gear_indicator_values
     from ..analysis.spectral_kurtosis import fast_kurtogram
-    from ..io import write_netcdf
+    from ..io import index_labels, write_netcdf
     from ..runs.json_output import json_text
 
     if not args.run.is_file():
         raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     try:
-        with xr.open_dataset(args.run) as opened:
-            run = opened.load()
+        with xr.open_dataset(args.run, decode_times=False) as opened:
+            run = index_labels(opened.load())  # labels as indexes, time in s
     except (OSError, ValueError) as error:
         raise CaseError(f"RUN.nc {str(args.run)!r} is not a NetCDF file ({error})") from None
-    channel = args.channel or next(
-        (n for n, v in run.data_vars.items() if v.attrs.get("quantity") == "sensor"), None
-    )
+    sensors = [
+        n for n, (v, _, _) in run_channels(run).items() if run[v].attrs.get("quantity") == "sensor"
+    ]
+    channel = args.channel or next(iter(sensors), None)
     if channel is None:
         raise CaseError(f"RUN.nc {str(args.run)!r} holds no sensor channel for --tsa")
     after = 0.5 if args.after is None else args.after
@@ -136,7 +138,7 @@ def analyze_tsa(args: argparse.Namespace) -> int:
         indicators = gear_indicator_values(average)
         summary["indicators"] = indicators
         rate = 1.0 / float(run.time[1] - run.time[0])
-        kurtogram = fast_kurtogram(late[channel].values, rate)
+        kurtogram = fast_kurtogram(channel_series(late, channel).values, rate)
         best = kurtogram[1]
         summary["kurtogram"] = {
             "centre_frequency_hz": best.centre_frequency,
@@ -147,7 +149,10 @@ def analyze_tsa(args: argparse.Namespace) -> int:
         for name, value in indicators.items():
             result[name] = ((), value, {"long_name": f"{name} of the gear average"})
     path = write_netcdf(
-        result, stem.with_suffix(".nc"), title=f"Synchronous average of {gear} in {channel}"
+        result,
+        stem.with_suffix(".nc"),
+        title=f"Synchronous average of {gear} in {channel}",
+        provenance=run.attrs,
     )
     files = [str(path)]
     if not args.no_figures:

@@ -22,9 +22,11 @@ begins where the reference reaches a tenth of its top speed)."""
 def _read_run(path) -> object:
     import xarray as xr
 
+    from ..io import index_labels
+
     try:
-        with xr.open_dataset(path) as opened:
-            return opened.load()
+        with xr.open_dataset(path, decode_times=False) as opened:
+            return index_labels(opened.load())  # labels as indexes, time in s
     except (OSError, ValueError) as error:
         raise CaseError(
             f"RUN.nc {str(path)!r} is not a NetCDF file pygear can read ({error})"

@@ -144,7 +144,9 @@ def _analyze(args: argparse.Namespace) -> int:
     import xarray as xr
 
     from ..analysis.analyze import pick_channel
+    from ..analysis.channels import channel_file_part
     from ..analysis.peaks import peak_table_text
+    from ..io import index_labels
     from ..runs.json_output import json_text
     from ..runs.outputs import stored_references, write_signal_analysis
 
@@ -165,13 +167,14 @@ def _analyze(args: argparse.Namespace) -> int:
             f"--out {str(args.out)!r} is an output stem: STEM_<channel>.nc and .png are "
             f"written (drop the {args.out.suffix})"
         )
-    with xr.open_dataset(args.run) as opened:
-        run = opened.load()
+    with xr.open_dataset(args.run, decode_times=False) as opened:
+        run = index_labels(opened.load())  # labels as indexes, time in s
     # the run file carries its own frequencies: nothing is loaded from the case it names
     natural, stored_mesh_frequency = stored_references(run, args.run)
     stem = args.out or args.run.with_name(args.run.stem)
     channel = pick_channel(run, args.channel)
-    if stem.with_name(f"{stem.name}_{channel}.nc").resolve() == args.run.resolve():
+    spectra = stem.with_name(f"{stem.name}_{channel_file_part(channel)}.nc")
+    if spectra.resolve() == args.run.resolve():
         raise CaseError(f"--out {str(stem)!r} would write the spectra over RUN.nc itself")
     analysis, files = write_signal_analysis(
         run,

@@ -69,7 +69,9 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
     for k, probe in enumerate(probes):
         where = f"{path}[{k}].target"
         quantity, target = probe.quantity, probe.target
-        attrs = {"quantity": quantity, "target": target}
+        # label: the target as the run file's coordinate names it; named: the probe keeps
+        # a variable of its own (pygear.analysis.run_layout)
+        attrs = {"quantity": quantity, "target": target, "label": target, "named": bool(probe.name)}
         if quantity in ("displacement", "velocity", "acceleration"):
             row = _require(dof_row(model, target), where, target, "DOF", model.full_labels)
             dof = target.rsplit(".", 1)[-1]
@@ -86,6 +88,7 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
             )
         elif quantity.startswith("mesh_"):
             m = _require(mesh_index(model, target), where, target, "mesh", _meshes(model))
+            attrs["label"] = f"{model.meshes[m].stage}.{model.meshes[m].name}"
             if quantity == "mesh_deflection":
                 attrs.update(units="m", long_name=f"deflection b.q of mesh {target}")
                 compiled.append(
@@ -117,11 +120,18 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
 def state_probes(model: Model) -> list[KernelProbe]:
     """Displacement, velocity and acceleration of every reduced DOF (full state)."""
     probes = []
-    for quantity in ("displacement", "velocity", "acceleration"):
+    for order, quantity in enumerate(("displacement", "velocity", "acceleration")):
         for i, label in enumerate(model.dof_labels):
             row = np.zeros(model.size)
             row[i] = 1.0
-            probes.append(KernelProbe(f"__{quantity}_{i}", quantity, row, attrs={"dof": label}))
+            attrs = {
+                "quantity": quantity,
+                "target": label,
+                "label": label,
+                "named": False,
+                "units": _units(label.rsplit(".", 1)[-1], order),
+            }
+            probes.append(KernelProbe(f"__{quantity}_{i}", quantity, row, attrs=attrs))
     return probes
 
 

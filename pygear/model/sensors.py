@@ -73,8 +73,9 @@ class Sensor:
     Parameters
     ----------
     name : str
-        Sensor name: a probe ``Probe("sensor", name)`` records it, by default into the
-        variable ``<name>_acceleration``.
+        Sensor name: a probe ``Probe("sensor", name)`` records it into
+        ``sensor_acceleration(sensor, time)`` at ``sensor=name`` (a named probe: into a
+        variable of its own name).
     stage : str
         The planetary stage it listens to.
     angle_deg : float
@@ -129,7 +130,7 @@ class Sensor:
         if not isinstance(self.name, str) or not SENSOR_NAME.match(self.name):
             raise CaseError(
                 f"{path}.name must be a letter followed by letters, digits or "
-                f"underscores (it names the output variable; got {self.name!r})"
+                f"underscores (it labels the output's sensor; got {self.name!r})"
             )
         if not is_finite_number(self.angle_deg):
             raise CaseError(

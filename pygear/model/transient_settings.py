@@ -63,17 +63,51 @@ PROBE_QUANTITIES = {
 
 RUN_VARIABLES = frozenset(
     {
-        # coordinates and results of the run (pygear.analysis.transient), the full state's
+        # coordinates and results of the run (pygear.analysis.transient), its grouped
+        # channels and their label dimensions (pygear.analysis.run_layout)
         "time",
-        "member",
+        "scene",
+        "body",
         "planet",
-        "dof",
         "equilibrium_speed",
         "planet_tangential_speed",
         "t_s",
-        "displacement",
-        "velocity",
-        "acceleration",
+        "member",
+        "translation_dof",
+        "rotation_dof",
+        "mesh",
+        "bearing",
+        "bearing_rotation",
+        "sensor",
+        "sensor_gear",
+        "sensor_planet",
+        "sensor_stage",
+        "sensor_angle",
+        "sensor_direction",
+        "sensor_window",
+        "sensor_window_width",
+        "sensor_mesh_gain",
+        "sensor_bearing_gain",
+        "sensor_structure_modes",
+        "sensor_noise_snr",
+        "sensor_noise_seed",
+        "sensor_planet_angle",
+        "sensor_teeth",
+        "speed",
+        "translation_displacement",
+        "translation_velocity",
+        "translation_acceleration",
+        "rotation_displacement",
+        "rotation_velocity",
+        "rotation_acceleration",
+        "mesh_force",
+        "mesh_deflection",
+        "mesh_stiffness",
+        "bearing_force",
+        "bearing_moment",
+        "sensor_acceleration",
+        "drive_torque",
+        "load_torque",
         # the frequencies a run file carries for its signal analysis (pygear.runs.outputs)
         "natural_frequency",
         "mode",
@@ -227,7 +261,9 @@ class Probe:
     target : str
         What it measures (a DOF label, a body, a mesh or a bearing spring).
     name : str, optional
-        Variable name in the output file (default from quantity and target).
+        A variable of this name in the output file, over ``time`` alone.  Without a
+        name the probe joins its kind's grouped variable (``speed(member, time)``,
+        ``mesh_force(mesh, time)``, ...; docs/data_model.md).
     """
 
     quantity: str

@@ -23,6 +23,7 @@ from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
 from ..io import atomic_path, write_netcdf
 from ..model.case import Case, Scene, find_case_dir, load_case
+from ..model.case_json import case_json
 from .cluster import task_files
 from .progress import ProgressBar
 from .scene_checks import check_scenes
@@ -75,10 +76,11 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path, figu
     sensitivity = frequency_sensitivity(model)
     with task_files():
         path = write_netcdf(
-            sensitivity,
+            sensitivity.assign_attrs(scene=scene.name),
             out / f"{scene.name}_sensitivity.nc",
             input_hash=case.input_hash(),
             title=f"Frequency sensitivities of {case.name}",
+            case_json=case_json(case),
         )
     return {"files": [str(path)]}
 

@@ -37,8 +37,9 @@ import numpy as np
 import xarray as xr
 
 from ..errors import CaseError
-from ..io import source_identity, write_netcdf
+from ..io import index_labels, source_identity, write_netcdf
 from ..model.case import Case, Scene, load_case, validate_defects
+from ..model.case_json import case_json
 from ..model.components import ToothDefect
 from ..model.gear_geometry import base_half_thickness
 from ..model.tooth_faults import ChippedTooth, RootCrack
@@ -54,8 +55,11 @@ FAULT_KINDS = ("crack_depth", "stiffness_factor", "chipped_fraction")
 CRACK_ANGLE_DEG = 45.0
 """Angle of the root crack to the tooth's centre line [deg] (Tian 2004)."""
 
-DATASET_FORMAT = "1"
+DATASET_FORMAT = "2"
 """Changes when a record file's content changes meaning (part of every record hash)."""
+
+RECORD_SENSOR = "sensor_acceleration"
+"""A record's noisy sensor series over ``time`` (its attributes: the sensor's settings)."""
 
 INDICATORS = (
     "fm0",
@@ -336,33 +340,38 @@ def _tasks(plan: DatasetPlan, out: Path) -> tuple[list[RecordTask], list[str], i
     return tasks, hashes, found
 
 
-def _sensor_variable(scene: Scene, sensor: str) -> str:
-    return next(
-        p.variable for p in scene.transient.probes if p.quantity == "sensor" and p.target == sensor
+def _sensor_channel(scene: Scene, sensor: str) -> str:
+    """The channel name of the sensor's probe (:mod:`pygear.analysis.channels`)."""
+    probe = next(
+        p for p in scene.transient.probes if p.quantity == "sensor" and p.target == sensor
     )
+    return probe.name or f"sensor_acceleration:{sensor}"
 
 
 def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dataset:
     """One record: the noisy sensor channel, the tachometer, the gear's average, the
     indicators and the labels."""
-    from ..analysis.gear_average import angle_variable, gear_average, gear_indicator_values
+    from ..analysis.channels import channel_series
+    from ..analysis.gear_average import gear_average, gear_indicator_values, member_angle
     from ..analysis.sensor_signal import add_noise
     from ..analysis.synchronous_average import synthetic_tachometer
 
-    variable = _sensor_variable(task.scene, task.sensor)
-    clean = run[variable]
-    noisy = clean.copy(data=add_noise(clean.values, task.snr_db, seed))
-    noisy.attrs.update(sensor_noise_snr_db=task.snr_db, sensor_noise_seed=seed)
+    channel = _sensor_channel(task.scene, task.sensor)
+    clean = channel_series(run, channel)
+    noisy = clean.copy(data=add_noise(clean.values, task.snr_db, seed)).rename(RECORD_SENSOR)
+    noisy.attrs.update(
+        sensor_noise_snr_db=task.snr_db, sensor_noise_seed=seed, channel=RECORD_SENSOR
+    )
     stage = task.gear.partition(".")[0]
-    carrier = run[angle_variable(stage, "carrier")]
-    view = run.assign({variable: noisy})
+    carrier = member_angle(run, stage, "carrier")
+    view = run.assign({RECORD_SENSOR: noisy})
     start = float(run.time[0]) + min(0.5, 0.25 * float(run.time[-1] - run.time[0]))
-    average = gear_average(view.sel(time=slice(start, None)), task.gear, variable)
+    average = gear_average(view.sel(time=slice(start, None)), task.gear, RECORD_SENSOR)
     indicators = gear_indicator_values(average)
     pulses = synthetic_tachometer(run.time.values, carrier.values, 1)
     data = xr.Dataset(
         {
-            variable: noisy,
+            RECORD_SENSOR: noisy,
             "tachometer_angle": carrier.assign_attrs(
                 long_name="carrier angle (the tachometer's shaft)", units="rad"
             ),
@@ -389,7 +398,7 @@ def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dat
         case=task.case.name,
         scene=task.scene.name,
         gear=task.gear,
-        sensor_channel=variable,
+        sensor_channel=channel,
         labels=json.dumps(labels),
     )
     return data
@@ -403,12 +412,14 @@ def run_record_task(task: RecordTask) -> list[dict]:
     started = time.perf_counter()
     try:
         run = run_transient(task.case, task.scene)
+        record_case_json = case_json(task.case)
         for seed, digest, path in zip(task.seeds, task.hashes, task.paths):
             write_netcdf(
                 _record(task, run, seed, digest),
                 path,
                 title=f"Fault record {digest} of {task.case.name}",
                 input_hash=digest,
+                case_json=record_case_json,
             )
             Path(path).with_suffix(".error.json").unlink(missing_ok=True)
         wall = time.perf_counter() - started
@@ -482,6 +493,8 @@ def run_dataset(
         combined,
         out / f"dataset_{digest}.nc",
         title=f"Fault dataset of {plan.case.name}: {plan.kind} on {plan.gear} tooth {plan.tooth}",
+        input_hash=digest,
+        case_json=case_json(plan.case.for_scene(plan.scene)),
     )
     card = out / f"dataset_{digest}.md"
     from ..io import atomic_path
@@ -524,8 +537,8 @@ def combine_records(paths: Sequence[Path]) -> xr.Dataset:
     and seed up to its severity (Zakrajsek et al. 1993's running average)."""
     records = []
     for path in paths:
-        with xr.open_dataset(path) as data:
-            records.append(data.load())
+        with xr.open_dataset(path, decode_times=False) as data:
+            records.append(index_labels(data.load()))
     if not records:
         return xr.Dataset()
     combined = xr.concat(

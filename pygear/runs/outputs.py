@@ -16,8 +16,10 @@ import xarray as xr
 from ..analysis.signal import SignalError
 from ..io import write_netcdf
 from ..model.case import Case, Scene
+from ..model.case_json import case_json
 
 __all__ = [
+    "SPECTRA_DIRECTORY",
     "analysis_references",
     "stored_references",
     "write_run_signals",
@@ -26,6 +28,10 @@ __all__ = [
     "write_modal_outputs",
     "write_signal_analysis",
 ]
+
+
+SPECTRA_DIRECTORY = "spectra"
+"""Where a scene's signal analyses go, below its output directory."""
 
 
 def write_modal_outputs(
@@ -40,12 +46,15 @@ def write_modal_outputs(
 ) -> list[Path]:
     """Write ``<stem>.nc`` and then, with ``figures``, the modal figures into ``directory``."""
     directory.mkdir(parents=True, exist_ok=True)
+    if scene is not None:
+        modal = modal.assign_attrs(scene=scene.name)
     written = [
         write_netcdf(
             modal,
             directory / f"{stem}.nc",
             input_hash=case.input_hash(),
             title=f"Modal analysis of {case.name} ({model.formulation})",
+            case_json=case_json(case),
         )
     ]
     if not figures:
@@ -81,11 +90,11 @@ def _stage_mesh_frequencies(case: Case, run) -> dict[str, tuple[int, float]]:
     """
     if "equilibrium_speed" not in run:
         return {}
-    speeds = dict(zip(run.member.values.tolist(), run.equilibrium_speed.values.tolist()))
+    speeds = dict(zip(run.body.values.tolist(), run.equilibrium_speed.values.tolist()))
     stages = case.gearbox.stages
     found = {}
     for stage in stages:
-        prefix = f"{stage.name}." if len(stages) > 1 else ""
+        prefix = f"{stage.name}."
         kind = getattr(stage, "kind", "")
         if kind == "planetary" and stage.ring.teeth:
             relative = speeds.get(prefix + "carrier", np.nan) - speeds.get(prefix + "ring", 0.0)
@@ -220,8 +229,11 @@ def write_signal_analysis(
     figure=True,
 ):
     """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and then, with
-    ``figure``, ``<stem>_<channel>.png``."""
+    ``figure``, ``<stem>_<channel>.png`` (the channel name with ``:`` as ``_``,
+    :func:`pygear.analysis.channels.channel_file_part`).  The spectra file keeps the
+    run's case, scene, formulation, input hash and case JSON."""
     from ..analysis.analyze import analyze_channel
+    from ..analysis.channels import channel_file_part
 
     analysis = analyze_channel(
         run,
@@ -231,7 +243,7 @@ def write_signal_analysis(
         natural_frequencies=natural,
         mesh_frequency=mesh_frequency,
     )
-    base = stem.with_name(f"{stem.name}_{analysis.channel}")
+    base = stem.with_name(f"{stem.name}_{channel_file_part(analysis.channel)}")
     # suffixes appended, never substituted: a channel name with a dot keeps its own files
     spectra = analysis.spectra.copy()
     if isinstance(mesh_frequency, dict):
@@ -244,7 +256,10 @@ def write_signal_analysis(
         for row in analysis.peaks["spectrum"].head(5).itertuples()
     )
     path = write_netcdf(
-        spectra, base.with_name(f"{base.name}.nc"), title=f"Spectra of {analysis.channel}"
+        spectra,
+        base.with_name(f"{base.name}.nc"),
+        title=f"Spectra of {analysis.channel}",
+        provenance=run.attrs,
     )
     if not figure:
         return analysis, [path]
@@ -260,10 +275,13 @@ def _signal_figure(analysis, base: Path, run_attrs) -> Path:
 
 
 def acceleration_channels(dataset) -> list[str]:
+    """The channel names (:mod:`pygear.analysis.channels`) of a run's accelerations."""
+    from ..analysis.channels import run_channels
+
     return [
         name
-        for name, v in dataset.data_vars.items()
-        if v.dims == ("time",) and str(v.attrs.get("units", "")).endswith("s^2")
+        for name, (variable, _, _) in run_channels(dataset).items()
+        if str(dataset[variable].attrs.get("units", "")).endswith("s^2")
     ]
 
 
@@ -271,8 +289,15 @@ def write_run_signals(
     case: Case, model, dataset, directory: Path, stem: str, *, figures: bool = True
 ) -> list[Path]:
     """Signal analysis of every acceleration channel of a run, after the start-up:
-    every channel's ``.nc`` first, then (with ``figures``) every channel's figure."""
+    every channel's ``.nc`` first, then (with ``figures``) every channel's figure.
+
+    They go to ``directory/spectra/<stem>_<channel>.*``: beside the scene files, a
+    glob such as ``runup*.nc`` then finds the scenes alone (open_mfdataset of a batch).
+    """
+    from ..analysis.channels import channel_file_part
     from ..model.case import SIGNAL_AFTER
+
+    directory = Path(directory) / SPECTRA_DIRECTORY
 
     if "natural_frequency" not in dataset:  # a run not from write_transient
         dataset = dataset.merge(analysis_references(case, model, dataset))
@@ -293,6 +318,6 @@ def write_run_signals(
         analyses.append(analysis)
     if figures:
         for analysis in analyses:
-            base = directory / f"{stem}_{analysis.channel}"
+            base = directory / f"{stem}_{channel_file_part(analysis.channel)}"
             files.append(_signal_figure(analysis, base, dataset.attrs))
     return files

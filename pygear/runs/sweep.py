@@ -33,8 +33,9 @@ import numpy as np
 import xarray as xr
 
 from ..errors import CaseError
-from ..io import write_netcdf
+from ..io import index_labels, write_netcdf
 from ..model.case import Case, Scene, load_case
+from ..model.case_json import case_json
 from .cluster import task_files
 from .progress import ProgressBar
 from .sweep_points import (
@@ -43,6 +44,7 @@ from .sweep_points import (
     PointTask,
     SweepParameter,
     apply_assignments,
+    dimension_name,
     error_message,
     parse_param,
     point_hash,
@@ -103,7 +105,7 @@ def _reusable_point(directory: Path, digest: str) -> xr.Dataset | None:
         with task_files(), xr.open_dataset(path, engine="netcdf4") as opened:
             if opened.attrs.get("point_hash") != digest:
                 return None
-            data = opened.load()
+            data = index_labels(opened.load())
     except (OSError, ValueError, RuntimeError):
         return None
     for name, values in data.data_vars.items():
@@ -192,6 +194,7 @@ def run_sweep(
         ("case", case.name),
         ("scene", chosen.name),
         ("sweep_parameters", " ".join(p.path for p in parameters)),
+        ("sweep_dimensions", " ".join(p.name for p in parameters)),
         ("sweep_layout", "zip" if zip_params else "grid"),
     )
     records, hashes, found, tasks = _plan_points(out, case, chosen, resolved, points, shared_attrs)
@@ -230,7 +233,7 @@ def run_sweep(
                 records[index]["error"] = record["error"]
     placed = {i: results[d] for i, d in enumerate(hashes) if records[i]["status"] != "failed"}
     combined = combine_points(placed, points, parameters, zip_params, records, n_points)
-    dims = ("point",) if zip_params else tuple(p.path for p in parameters)
+    dims = ("point",) if zip_params else tuple(p.name for p in parameters)
     combined["point_hash"] = (
         dims,
         np.array(hashes, dtype=object).reshape(combined.point_status.shape),
@@ -254,6 +257,7 @@ def run_sweep(
         title=f"Sweep of {case.name}, scene {chosen.name}, over "
         + ", ".join(p.path for p in parameters),
         input_hash=case.input_hash(),
+        case_json=case_json(case.for_scene(chosen)),
     )
     combined.attrs["path"] = str(path)
     combined.attrs["wall_s"] = time.perf_counter() - started
@@ -350,12 +354,13 @@ def _placed(data: xr.Dataset, assignments: Mapping, zipped: bool, index: int) ->
     """A point's results placed where this sweep has them: on ``point=[index]`` when
     zipped, else on a length-1 dimension per parameter.  The placement stored in the
     file (by whichever sweep wrote it) is taken off first."""
-    stored = json.loads(data.attrs.get("point_parameters", "{}"))
+    data = data.drop_vars("scene", errors="ignore")  # a file's own; the sweep writes one
+    stored = [dimension_name(p) for p in json.loads(data.attrs.get("point_parameters", "{}"))]
     data = data.isel({name: 0 for name in stored if name in data.dims}, drop=True)
     data = data.drop_vars([name for name in stored if name in data.variables])
     if zipped:
         return data.expand_dims(point=[index])
-    return data.expand_dims({path: [value] for path, value in assignments.items()})
+    return data.expand_dims({dimension_name(p): [v] for p, v in assignments.items()})
 
 
 def combine_points(
@@ -381,7 +386,7 @@ def combine_points(
             for index, point in sorted(points.items()):
                 if not isinstance(point, xr.Dataset):
                     with xr.open_dataset(point, engine="netcdf4") as opened:
-                        point = opened.load()
+                        point = index_labels(opened.load())
                 datasets.append(_placed(point, assignments[index], zipped, index))
         data = xr.combine_by_coords(
             datasets,
@@ -389,22 +394,23 @@ def combine_points(
             coords="different",
             compat="no_conflicts",
             join="outer",
-            combine_attrs="drop",
+            combine_attrs="override",  # keeps the variables' units and long names
         )
         data = data.drop_encoding()  # integer encodings of the files cannot hold NaN
+        data.attrs = {}  # the first point's own (its hash): the sweep sets its own
     else:
         data = xr.Dataset()
     if zipped:
         data = data.reindex(point=np.arange(n_points)) if points else data
-        data = data.assign_coords({p.path: ("point", list(p.values), p.attrs) for p in parameters})
+        data = data.assign_coords({p.name: ("point", list(p.values), p.attrs) for p in parameters})
         data = data.assign_coords(
             point=("point", np.arange(n_points), {"long_name": "sweep point"})
         )
         dims = ("point",)
     else:
-        data = data.reindex({p.path: list(p.values) for p in parameters}) if points else data
-        data = data.assign_coords({p.path: (p.path, list(p.values), p.attrs) for p in parameters})
-        dims = tuple(p.path for p in parameters)
+        data = data.reindex({p.name: list(p.values) for p in parameters}) if points else data
+        data = data.assign_coords({p.name: (p.name, list(p.values), p.attrs) for p in parameters})
+        dims = tuple(p.name for p in parameters)
     for name in list(data.data_vars):
         if data[name].dtype == object:  # text: a failed point holds "" rather than NaN
             values = data[name].values

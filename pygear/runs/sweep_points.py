@@ -16,6 +16,7 @@ import itertools
 import json
 import math
 import os
+import re
 import sys
 import time
 import traceback
@@ -34,6 +35,7 @@ from ..errors import CaseError
 from ..io import atomic_path, source_identity, write_netcdf
 from ..model.case import FORMULATIONS, Case, Scene, check_choice, get_parameter
 from ..model.case import replace_parameter as _replace
+from ..model.case_json import case_json
 from ..resources import require_memory
 from .cluster import task_files
 
@@ -43,6 +45,7 @@ __all__ = [
     "PointTask",
     "SweepParameter",
     "apply_assignments",
+    "dimension_name",
     "error_message",
     "parse_param",
     "point_hash",
@@ -53,7 +56,7 @@ __all__ = [
     "write_error_record",
 ]
 
-SWEEP_FORMAT = "2"
+SWEEP_FORMAT = "3"
 """Version of the point files; part of every point hash, so a change reruns the points."""
 
 NAN_IS_A_RESULT = {"t_s": "the input speed never reaches omega_0 in the run"}
@@ -89,6 +92,15 @@ _UNITS = {
 # --------------------------------------------------------------------------- validation
 
 
+def dimension_name(path: str) -> str:
+    """The dimension a swept parameter's path names in the files: every ``.`` as ``__``
+    (``planetary.sun_mesh.stiffness`` -> ``planetary__sun_mesh__stiffness``), any other
+    character that is not a letter, digit or ``_`` as ``_``: a valid identifier, so that
+    ``sweep.sel(planetary__sun_mesh__stiffness=4e8)`` takes it as a keyword."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", path.replace(".", "__"))
+    return name if name[:1].isalpha() else f"p_{name}"
+
+
 @dataclass(frozen=True)
 class SweepParameter:
     """One swept parameter: its dotted path and its values (numbers, in the given order)."""
@@ -97,12 +109,16 @@ class SweepParameter:
     values: tuple
 
     @property
+    def name(self) -> str:
+        """Its dimension in the files (:func:`dimension_name`)."""
+        return dimension_name(self.path)
+
+    @property
     def attrs(self) -> dict[str, str]:
-        """CF attributes of the parameter's coordinate."""
-        attrs = {"long_name": self.path}
+        """CF attributes of the parameter's coordinate; ``parameter_path`` is the path."""
+        attrs = {"long_name": self.path, "parameter_path": self.path}
         units = _UNITS.get(self.path.rsplit(".", 1)[-1])
-        if units:
-            attrs["units"] = units
+        attrs["units"] = units or "1"
         return attrs
 
 
@@ -185,10 +201,13 @@ def validate_sweep(
         raise CaseError("--param: give at least one stage.member.parameter=VALUES")
     parsed = [_parameter_values(case, str(path), values) for path, values in params]
     paths = [p.path for p in parsed]
-    for path in paths:
+    names = [p.name for p in parsed]
+    for path, name in zip(paths, names):
         if paths.count(path) > 1:
             raise CaseError(f"--param {path} is given twice")
-        if path in ("point", "mode"):
+        if names.count(name) > 1:
+            raise CaseError(f"--param {path}: two paths give the dimension name {name!r}")
+        if name in ("point", "mode", "body", "planet", "mesh"):
             raise CaseError(f"--param {path}: the name is taken by a dimension of the results")
     if zip_params:
         lengths = {p.path: len(p.values) for p in parsed}
@@ -323,19 +342,21 @@ def _transient_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
     window = float(run.attrs.get("mean_window", 1.0))
     late = run.sel(time=slice(float(run.time[-1]) - window, None))
     result = run[["t_s", "equilibrium_speed", "planet_tangential_speed"]]
-    for name, values in late.data_vars.items():
-        if values.dims == ("time",) and name.endswith("mesh_force"):
-            dynamic = values - values.mean()
-            result[f"{name}_rms"] = np.sqrt((dynamic**2).mean()).assign_attrs(
-                units="N", long_name=f"RMS of the dynamic part of {name} (last {window:g} s)"
+    if "mesh_force" in late:  # recorded meshes only: a label of mesh_force may hold NaN
+        force = late.mesh_force
+        dynamic = force - force.mean("time")
+        result["mesh_force_rms"] = np.sqrt((dynamic**2).mean("time")).assign_attrs(
+            units="N",
+            long_name=f"RMS of the dynamic part of each mesh force (last {window:g} s)",
+        )
+        result["mesh_force_peak"] = (
+            abs(dynamic)
+            .max("time")
+            .assign_attrs(
+                units="N",
+                long_name=f"peak of the dynamic part of each mesh force (last {window:g} s)",
             )
-            result[f"{name}_peak"] = (
-                abs(dynamic)
-                .max()
-                .assign_attrs(
-                    units="N", long_name=f"peak of the dynamic part of {name} (last {window:g} s)"
-                )
-            )
+        )
     return result
 
 
@@ -405,6 +426,7 @@ def run_point(task: PointTask) -> dict:
                 task.path,
                 title=f"Sweep point {task.point_hash} of {task.case.name}, scene {task.scene.name}",
                 input_hash=task.case.input_hash(),
+                case_json=case_json(task.case),
             )
         if os.path.exists(task.error_path):
             os.remove(task.error_path)
@@ -436,9 +458,15 @@ def error_message(error: BaseException) -> str:
 
 
 def _place_point(data: xr.Dataset, task: PointTask) -> xr.Dataset:
-    """Give the point's parameter values as coordinates on length-1 dimensions (in
-    either layout: a point file belongs to no sweep in particular)."""
-    return data.expand_dims({path: [value] for path, value in task.assignments.items()})
+    """Give the point's parameter values as coordinates on length-1 dimensions named by
+    :func:`dimension_name` (in either layout: a point file belongs to no sweep in
+    particular), with each path in the coordinate's attributes."""
+    data = data.expand_dims(
+        {dimension_name(path): [value] for path, value in task.assignments.items()}
+    )
+    for path in task.assignments:
+        data[dimension_name(path)].attrs.update(SweepParameter(path, ()).attrs)
+    return data
 
 
 def write_error_record(

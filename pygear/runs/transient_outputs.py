@@ -18,6 +18,7 @@ from ..errors import CaseError
 from ..io import WriteInterrupted, atomic_path, signals_interrupt, write_netcdf
 from ..kernel.newmark import TransientInterrupted
 from ..model.case import Case, Scene
+from ..model.case_json import case_json
 from .outputs import analysis_references
 
 __all__ = ["write_speed_figure", "write_transient"]
@@ -76,6 +77,7 @@ def write_transient(
                 directory / f"{scene.name}.nc",
                 title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
                 input_hash=case.input_hash(),
+                case_json=case_json(case),
             )
             written = [path]
             if figure:
@@ -107,12 +109,14 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
     """Each sensor channel's carrier-order spectrum around the first two mesh harmonics,
     sidebands labelled (``<scene>_<channel>_orders.png``); none for a run shorter than
     two carrier revolutions or without the carrier's angle."""
+    from ..analysis.channels import channel_file_part, channel_series, run_channels
     from ..analysis.sensor_signal import sensor_carrier_orders
 
     written = []
-    for name, variable in dataset.data_vars.items():
-        if variable.attrs.get("quantity") != "sensor":
+    for name, (variable_name, _, _) in run_channels(dataset).items():
+        if dataset[variable_name].attrs.get("quantity") != "sensor":
             continue
+        variable = channel_series(dataset, name)
         try:
             orders, amplitude, revolutions = sensor_carrier_orders(dataset, name)
         except CaseError:
@@ -131,7 +135,7 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
             title=f"{dataset.attrs.get('case', '')} / {scene}: {name}, "
             f"last {revolutions} carrier revolutions",
         )
-        target = directory / f"{scene}_{name}_orders.png"
+        target = directory / f"{scene}_{channel_file_part(name)}_orders.png"
         with atomic_path(target) as temporary:
             figure.savefig(temporary, format="png", dpi=110)
         written.append(target)
