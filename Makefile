@@ -24,7 +24,7 @@ test-slow: $(STAMP)
 	$(PY) -m pytest -m slow || [ $$? -eq 5 ]
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check pygear tests benchmarks cases
+	$(VENV)/bin/ruff check pygear tests benchmarks cases docs
 
 bench: $(STAMP)
 	for script in benchmarks/bench_*.py; do $(PY) $$script || exit 1; done

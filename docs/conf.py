@@ -9,6 +9,7 @@ notebook that no longer runs fails the build.
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 import types
@@ -57,7 +58,9 @@ myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 myst_dmath_double_inline = True
 
-# notebooks: executed on every build, and any error in a cell fails it
+# notebooks: executed on every build, and any error in a cell fails it. Their kernel is
+# the interpreter that runs the build: a kernel spec that names "python" finds this one
+os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
 nb_execution_mode = "force"
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
