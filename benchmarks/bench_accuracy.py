@@ -26,6 +26,7 @@ from timing import median_seconds  # noqa: E402
 from pygear import load_case  # noqa: E402
 from pygear.analysis.accuracy import load_accuracy_study  # noqa: E402
 from pygear.analysis.transient import run_transient  # noqa: E402
+from pygear.io import open_dataset  # noqa: E402
 from pygear.runs.accuracy import accuracy_study  # noqa: E402
 
 
@@ -64,7 +65,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     if args.grid:
-        with xr.open_dataset(args.grid) as opened:
+        with open_dataset(args.grid) as opened:  # labels as indexes
             ds = opened.load()
     else:
         case = load_case("yang2016_planetary")

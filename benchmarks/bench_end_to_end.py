@@ -71,13 +71,12 @@ def solver_seconds(path: Path) -> float:
 def figure_costs(run_file: Path, scratch: Path, repeats: int) -> list[tuple[str, float]]:
     """Seconds to draw each figure ``pygear run`` draws for a run-up, from its file;
     the first row is Matplotlib's import (with pyplot and the Agg backend)."""
-    import xarray as xr
-
     from pygear.analysis.analyze import analyze_channel
+    from pygear.io import open_dataset
     from pygear.model.case import SIGNAL_AFTER
     from pygear.runs.outputs import acceleration_channels, stored_references
 
-    with xr.open_dataset(run_file) as opened:
+    with open_dataset(run_file) as opened:  # labels as indexes, time in s
         run = opened.load()
     natural, mesh = stored_references(run, run_file)
     started = time.perf_counter()

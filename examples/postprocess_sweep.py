@@ -21,6 +21,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from pygear.io import open_dataset, open_mfdataset  # noqa: E402
+
 COLOURS = {"rotational": "tab:red", "translational": "tab:blue", "planet": "tab:green"}
 
 
@@ -28,22 +30,23 @@ def open_sweep(target: Path) -> xr.Dataset:
     """The combined dataset: the file given, or a directory's newest ``sweep_*.nc``; the
     point files of a directory holding one grid sweep give the same with open_mfdataset."""
     if target.is_file():
-        return xr.open_dataset(target).load()
+        return open_dataset(target).load()
     combined = sorted(target.glob("sweep_*.nc"), key=lambda p: p.stat().st_mtime)
     if combined:
-        return xr.open_dataset(combined[-1]).load()
+        return open_dataset(combined[-1]).load()
     directory = target
     # an interrupted sweep has no combined file yet: combine the points done so far
     files = sorted(directory.glob("point_*.nc"))
-    return xr.open_mfdataset(
+    return open_mfdataset(
         files, combine="by_coords", data_vars="all", coords="different",
         compat="no_conflicts", join="outer",
     ).load()  # fmt: skip
 
 
 def swept(sweep: xr.Dataset) -> list[str]:
-    """The swept parameters, in the order given to the sweep."""
-    return sweep.attrs["sweep_parameters"].split()
+    """The swept parameters' dimensions (each path with ``.`` as ``__``), in the order
+    given to the sweep."""
+    return sweep.attrs["sweep_dimensions"].split()
 
 
 def campbell(sweep: xr.Dataset, path: Path) -> None:

@@ -27,9 +27,11 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
+from pygear.io import open_dataset  # noqa: E402
+
 CASE = "yang2016_planetary"
 SCENE = "runup_wide"
-CHANNEL = "planetary_sun_theta_z_acceleration"
+CHANNEL = "acceleration:planetary.sun.theta_z"
 WINDOW_REVOLUTIONS = 0.25
 MAX_ORDER = 1100.0  # past the 10th ring-mesh harmonic, 960
 HARMONICS = 10
@@ -49,9 +51,9 @@ def compute(out: Path) -> tuple[xr.Dataset, xr.Dataset]:
         code = subprocess.run([sys.executable, "-m", "pygear.cli", *argv]).returncode
         if code:
             sys.exit(code)
-    with xr.open_dataset(out / "orders" / "orders.nc") as orders:
+    with open_dataset(out / "orders" / "orders.nc") as orders:
         orders = orders.load()
-    with xr.open_dataset(out / "campbell" / "campbell.nc") as campbell:
+    with open_dataset(out / "campbell" / "campbell.nc") as campbell:
         campbell = campbell.load()
     return orders, campbell
 
