@@ -21,11 +21,11 @@ import warnings
 from collections.abc import Iterator
 
 from ..errors import CaseError
-from . import accuracy, batch, campbell, cases, condition, modal, run
+from . import accuracy, batch, campbell, cases, condition, modal, run, show_case
 
 __all__ = ["build_parser", "main"]
 
-_FAMILIES = (run, modal, campbell, batch, accuracy, condition, cases)
+_FAMILIES = (run, modal, campbell, batch, accuracy, condition, cases, show_case)
 """Command families, in the order their subcommands are listed."""
 
 _USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal", "SignalError"))
