@@ -34,4 +34,16 @@ openblas_pc=$("$VENV/bin/python" -c \
 # shim script costs 0.1 s per process, a third of `pygear --help`)
 NINJA="$(cd "$VENV/bin" && pwd)/ninja" "$VENV/bin/python" -m pip install -q --no-build-isolation \
   -Csetup-args="-Dpkg_config_path=$openblas_pc" -e ".[test,docs]"
+# The CF checkers of tests/test_data_model.py: cfchecker reads units through the UDUNITS-2
+# C library (a system package), the IOOS compliance-checker through cf-units
+if ! ldconfig -p 2>/dev/null | grep libudunits2 >/dev/null; then  # grep reads all: no SIGPIPE
+  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    echo "setup: installing libudunits2-dev with apt-get (CF checker tests)" >&2
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libudunits2-dev
+  else
+    echo "setup: install UDUNITS-2 (Debian: libudunits2-dev) to run the CF checker tests" >&2
+  fi
+fi
+"$VENV/bin/python" -m pip install -q "cfchecker>=4.1" "compliance-checker>=5.1"
 "$VENV/bin/python" -c "import pygear.kernel._kernel" && echo "setup: pygear is installed in $VENV" >&2
