@@ -35,6 +35,15 @@ PANEL_INCH, GAP_INCH, TOP_INCH, BOTTOM_INCH = 1.8, 0.8, 0.75, 0.45
 next panel's title), the room for the figure's two-line title, the last x label."""
 
 
+def _channel_title(channel: str, quantity: str) -> str:
+    """``acceleration of planetary.sun.theta_z`` from a channel name ``kind:label`` (a
+    grouped run variable's series), else the name with its quantity."""
+    kind, _, label = channel.partition(":")
+    if label:
+        return f"{kind.replace('_', ' ')} of {label}"
+    return f"{channel} ({quantity})"
+
+
 def _peak_labels(table, limit: float, count: int, scale: float) -> list[tuple[float, float, str]]:
     """The ``count`` strongest peaks of ``table`` up to ``limit`` as (frequency,
     amplitude times ``scale``, text); an identified peak is named below its frequency."""
@@ -120,7 +129,7 @@ def plot_run_analysis(
         ax.set_title(title, fontsize=9, loc="left")
     after = spectra.attrs.get("after_s")
     figure.suptitle(
-        f"{quantity} {analysis.channel}\n"
+        f"{_channel_title(analysis.channel, quantity)}\n"
         f"{result_title(run_attrs or {})}"
         + (f"; spectra after {after:g} s" if after is not None else ""),
         fontsize=10,
