@@ -146,8 +146,12 @@ def analyze_tsa(args: argparse.Namespace) -> int:
             "level": best.level,
             "kurtosis": best.kurtosis,
         }
+        unit = str(average.attrs.get("units", "1"))  # the sensor's: rms, variances squared
+        squared = f"({unit})^2"
+        units = {"rms": unit, "residual_variance": squared, "envelope_variance": squared}
         for name, value in indicators.items():
-            result[name] = ((), value, {"long_name": f"{name} of the gear average"})
+            attrs = {"units": units.get(name, "1"), "long_name": f"{name} of the gear average"}
+            result[name] = ((), value, attrs)
     path = write_netcdf(
         result,
         stem.with_suffix(".nc"),
@@ -202,22 +206,25 @@ def damaged_teeth(run, gear: str, teeth: int) -> list:
 
 
 def _figures(average, stem: Path, summary: dict, run, kurtogram=None) -> list[str]:
-    from ..io import atomic_path
+    from ..io import save_figure
     from ..plots.condition_monitoring import plot_gear_average, plot_kurtogram
+    from ..plots.layout import result_title
 
     damaged = damaged_teeth(run, summary["gear"], int(average.attrs["teeth"]))
+    source = result_title(run.attrs)
     figures = {
         stem.with_suffix(".png"): plot_gear_average(
-            average, damaged_teeth=damaged, title=f"{summary['gear']} in {summary['channel']}"
+            average,
+            damaged_teeth=damaged,
+            title=f"{summary['gear']} in {summary['channel']}: {source}",
         )
     }
     if kurtogram is not None:
         figures[stem.with_name(f"{stem.name}_kurtogram.png")] = plot_kurtogram(
-            *kurtogram, title=f"kurtogram of {summary['channel']}"
+            *kurtogram, title=f"kurtogram of {summary['channel']}: {source}"
         )
     for path, figure in figures.items():
-        with atomic_path(path) as temporary:
-            figure.savefig(temporary, format="png", dpi=110)
+        save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
     return [str(path) for path in figures]
 
 

@@ -519,7 +519,7 @@ def run_dataset(
 
 def _trend_figure(combined: xr.Dataset, path: Path, plan: DatasetPlan) -> None:
     """FM4, the NA4 trend, FM0 and ER against severity, drawn after the files are safe."""
-    from ..io import atomic_path
+    from ..io import save_figure
     from ..plots.condition_monitoring import plot_indicator_trends
 
     figure = plot_indicator_trends(
@@ -527,8 +527,7 @@ def _trend_figure(combined: xr.Dataset, path: Path, plan: DatasetPlan) -> None:
         indicators=("fm4", "na4_trend", "fm0", "energy_ratio"),
         title=f"{plan.case.name}: {plan.kind} on {plan.gear} tooth {plan.tooth}",
     )
-    with atomic_path(path) as temporary:
-        figure.savefig(temporary, format="png", dpi=110)
+    save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
 
 
 def combine_records(paths: Sequence[Path]) -> xr.Dataset:
@@ -545,11 +544,14 @@ def combine_records(paths: Sequence[Path]) -> xr.Dataset:
         [r.expand_dims("record") for r in records],
         dim="record",
         join="outer",  # the pulse counts differ between speeds: NaN-padded
-        combine_attrs="drop",
+        combine_attrs="override",  # the variables keep their units and long names
         coords="all",
         compat="override",
     )
-    combined = combined.assign_coords(record=np.arange(len(records)))
+    combined.attrs = {}  # the first record's own: the dataset sets its own
+    combined = combined.assign_coords(
+        record=("record", np.arange(len(records)), {"units": "1", "long_name": "record number"})
+    )
     combined["record_hash"] = (
         "record",
         [r.attrs["record_hash"] for r in records],

@@ -15,7 +15,7 @@ from ..analysis.transient import run_transient, transient_problem
 from ..analysis.transient_checks import check_transient_disk
 from ..assembly.matrices import Model
 from ..errors import CaseError
-from ..io import WriteInterrupted, atomic_path, signals_interrupt, write_netcdf
+from ..io import WriteInterrupted, save_figure, signals_interrupt, write_netcdf
 from ..kernel.newmark import TransientInterrupted
 from ..model.case import Case, Scene
 from ..model.case_json import case_json
@@ -72,12 +72,12 @@ def write_transient(
             )
             stage = "writing the result"
             dataset = dataset.merge(analysis_references(case, problem.model, dataset))
+            # the inputs that made it, kept for what is computed from it (its spectra)
+            dataset.attrs.update(input_hash=case.input_hash(), case_json=case_json(case))
             path = write_netcdf(
                 dataset,
                 directory / f"{scene.name}.nc",
                 title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
-                input_hash=case.input_hash(),
-                case_json=case_json(case),
             )
             written = [path]
             if figure:
@@ -98,7 +98,6 @@ def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     the run has no speed channel."""
     if not any(v.attrs.get("quantity") == "speed" for v in dataset.data_vars.values()):
         return None
-    from ..io import save_figure
     from ..plots.transient import plot_speeds  # Matplotlib loads only for a figure
 
     figure = plot_speeds([dataset])
@@ -122,6 +121,7 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
         except CaseError:
             continue
         from ..plots.condition_monitoring import plot_sensor_orders
+        from ..plots.layout import result_title
 
         ring = int(np.atleast_1d(variable.attrs["sensor_teeth_sun_planet_ring"])[2])
         planets = len(np.atleast_1d(variable.attrs["sensor_planet_angles_deg"]))
@@ -132,13 +132,11 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
             amplitude,
             ring_teeth=ring,
             planets=planets,
-            title=f"{dataset.attrs.get('case', '')} / {scene}: {name}, "
+            title=f"{result_title(dataset.attrs, scene=scene)}: {name}, "
             f"last {revolutions} carrier revolutions",
         )
         target = directory / f"{scene}_{channel_file_part(name)}_orders.png"
-        with atomic_path(target) as temporary:
-            figure.savefig(temporary, format="png", dpi=110)
-        written.append(target)
+        written.append(save_figure(figure, target, dpi=figure.dpi))
     return written
 
 
