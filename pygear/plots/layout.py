@@ -4,8 +4,8 @@ that say which result they show, and labels placed where they overlap nothing.
 A plot function returns its :class:`matplotlib.figure.Figure`; the caller saves it
 (:func:`pygear.io.save_figure`, at the figure's own ``dpi``: the long series are cut
 to the pixel columns of that resolution, :mod:`pygear.plots.decimation`).  Figures are
-not registered with pyplot, so there is nothing to close and importing the package
-leaves the backend of a notebook or an application alone.
+not registered with pyplot, so there is nothing to close, and they need no backend: the
+modules that draw with these helpers select none, so a notebook keeps its own.
 
 Labels that could collide (peak labels, excitation lines, mesh orders) are measured
 with the figure's renderer as they are placed: each goes into the first free spot of
