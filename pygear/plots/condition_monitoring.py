@@ -16,21 +16,18 @@ import math
 from collections.abc import Iterable, Sequence
 from typing import Any
 
-import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch, Rectangle
+from matplotlib.ticker import MaxNLocator
 
-matplotlib.use("Agg")
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Patch, Rectangle  # noqa: E402
-from matplotlib.ticker import MaxNLocator  # noqa: E402
-
-from ..analysis.gear_indicators import difference_signal  # noqa: E402
-from ..analysis.signal import SignalError  # noqa: E402
-from ..analysis.spectral_kurtosis import KurtogramBand  # noqa: E402
-from .decimation import plot_envelope  # noqa: E402
+from ..analysis.gear_indicators import difference_signal
+from ..analysis.signal import SignalError
+from ..analysis.spectral_kurtosis import KurtogramBand
+from .decimation import plot_envelope
 
 __all__ = [
     "HEALTHY_REFERENCES",
