@@ -324,6 +324,14 @@ def index_labels(dataset: xr.Dataset) -> xr.Dataset:
     :func:`open_dataset` and :func:`open_mfdataset` apply it."""
     import numpy as np
 
+    text = [name for name, variable in dataset.variables.items() if variable.dtype.kind in "OUS"]
+    if text:  # labels are small: in memory, so Dask never chunks text (it cannot size it)
+        dataset = dataset.assign_coords(
+            {name: dataset[name].load() for name in text if name in dataset.coords}
+        )
+        for name in text:
+            if name not in dataset.coords:
+                dataset[name] = dataset[name].load()
     for name in list(dataset.variables):
         dimension = str(name).removesuffix(LABEL_SUFFIX)
         variable = dataset[name]
@@ -361,14 +369,17 @@ def open_dataset(path: str | os.PathLike, **options) -> xr.Dataset:
 
 def open_mfdataset(paths, **options) -> xr.Dataset:
     """Open several pygear files as one dataset: by default stacked along ``scene``
-    (``combine="nested", concat_dim="scene"``), each file through :func:`index_labels`;
-    ``options`` go to ``xarray.open_mfdataset``."""
+    (``combine="nested", concat_dim="scene"``), each file through :func:`index_labels`,
+    labels and times joined outer (scenes of other durations, members or meshes are
+    NaN where they have no value); ``options`` go to ``xarray.open_mfdataset``."""
     import xarray as xr
 
     options.setdefault("decode_times", False)
     options.setdefault("preprocess", index_labels)
     if "combine" not in options:
         options.update(combine="nested", concat_dim="scene")
+    for key, value in (("join", "outer"), ("data_vars", "all"), ("coords", "different")):
+        options.setdefault(key, value)
     return xr.open_mfdataset(paths, **options)
 
 

@@ -301,12 +301,12 @@ def modal_dataset(result: ModalResult) -> xr.Dataset:
             "class_index": (
                 "mode",
                 result.class_index,
-                {"long_name": "order within the class, repeated frequencies once"},
+                {"units": "1", "long_name": "order within the class, repeated frequencies once"},
             ),
             "multiplicity": (
                 "mode",
                 result.multiplicity,
-                {"long_name": "number of modes at this frequency"},
+                {"units": "1", "long_name": "number of modes at this frequency"},
             ),
             "shape": (
                 ("dof", "mode"),

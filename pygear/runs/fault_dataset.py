@@ -58,6 +58,18 @@ CRACK_ANGLE_DEG = 45.0
 DATASET_FORMAT = "2"
 """Changes when a record file's content changes meaning (part of every record hash)."""
 
+LABEL_ATTRS = {
+    "fault_kind": {"long_name": "kind of tooth fault"},
+    "fault_gear": {"long_name": "gear with the damaged tooth (stage.member)"},
+    "fault_tooth": {"units": "1", "long_name": "damaged tooth number"},
+    "severity": {"units": "1", "long_name": "fault severity (its kind's own measure)"},
+    "speed_rpm": {"units": "rpm", "long_name": "carrier speed"},
+    "load_nm": {"units": "N m", "long_name": "carrier torque"},
+    "snr_db": {"units": "1", "long_name": "signal-to-noise ratio of the sensor noise in dB"},
+    "seed": {"units": "1", "long_name": "seed of the sensor noise"},
+}
+"""CF attributes of a record's labels (coordinates along ``record`` in the dataset)."""
+
 RECORD_SENSOR = "sensor_acceleration"
 """A record's noisy sensor series over ``time`` (its attributes: the sensor's settings)."""
 
@@ -384,7 +396,9 @@ def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dat
                 "weight_sum", errors="ignore"
             ),
         },
-        coords={"pulse": ("pulse", np.arange(pulses.size), {"long_name": "pulse number"})},
+        coords={
+            "pulse": ("pulse", np.arange(pulses.size), {"units": "1", "long_name": "pulse number"})
+        },
     )
     unit = noisy.attrs.get("units", "m/s^2")
     units = {"rms": unit, "residual_variance": f"({unit})^2", "envelope_variance": f"({unit})^2"}
@@ -392,7 +406,7 @@ def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dat
         attrs = {"long_name": f"{name} of the gear average", "units": units.get(name, "1")}
         data[name] = ((), float(indicators[name]), attrs)
     labels = {**task.labels, "seed": seed}
-    data = data.assign_coords({k: ((), v) for k, v in labels.items()})
+    data = data.assign_coords({k: ((), v, LABEL_ATTRS.get(k, {})) for k, v in labels.items()})
     data.attrs.update(
         record_hash=digest,
         case=task.case.name,
@@ -408,19 +422,22 @@ def run_record_task(task: RecordTask) -> list[dict]:
     """Simulate one (severity, speed, load) and write a record per seed; never raises."""
     from ..analysis.transient import run_transient
     from ..io import atomic_path
+    from .cluster import task_files
 
     started = time.perf_counter()
     try:
         run = run_transient(task.case, task.scene)
         record_case_json = case_json(task.case)
         for seed, digest, path in zip(task.seeds, task.hashes, task.paths):
-            write_netcdf(
-                _record(task, run, seed, digest),
-                path,
-                title=f"Fault record {digest} of {task.case.name}",
-                input_hash=digest,
-                case_json=record_case_json,
-            )
+            record = _record(task, run, seed, digest)
+            with task_files():  # HDF5 is not thread-safe: one writer per worker process
+                write_netcdf(
+                    record,
+                    path,
+                    title=f"Fault record {digest} of {task.case.name}",
+                    input_hash=digest,
+                    case_json=record_case_json,
+                )
             Path(path).with_suffix(".error.json").unlink(missing_ok=True)
         wall = time.perf_counter() - started
         return [{"hash": d, "status": "computed", "wall_s": wall} for d in task.hashes]

@@ -72,6 +72,7 @@ def write_order_tracking(
         paths[0],
         title=f"Order tracking of {plan.channel} against the angle of {plan.reference.member}",
         input_hash=str(run.attrs.get("input_hash", "")) or None,
+        provenance=run.attrs,  # the run's case, scene, formulation and case JSON
     )
     for plot, path in zip((plot_order_map, plot_order_spectrum, plot_order_slices), paths[1:]):
         figure = plot(result, run_attrs=run.attrs)
