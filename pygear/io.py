@@ -377,7 +377,8 @@ def open_mfdataset(paths, **options) -> xr.Dataset:
     options.setdefault("decode_times", False)
     options.setdefault("preprocess", index_labels)
     if "combine" not in options:
-        options.update(combine="nested", concat_dim="scene")
+        options["combine"] = "nested"
+        options.setdefault("concat_dim", "scene")
     for key, value in (("join", "outer"), ("data_vars", "all"), ("coords", "different")):
         options.setdefault(key, value)
     return xr.open_mfdataset(paths, **options)

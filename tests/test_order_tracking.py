@@ -329,7 +329,8 @@ def test_analyze_orders_json_and_files(run_file, tmp_path, capsys):
         # it stands out of the run-up's broadband floor (measured 0.29 against 0.03)
         assert near[0]["amplitude"] > 5 * floor
         for name, variable in {**orders.data_vars, **orders.coords}.items():
-            assert "units" in variable.attrs and "long_name" in variable.attrs, name
+            assert "long_name" in variable.attrs, name
+            assert "units" in variable.attrs or variable.dtype.kind in "OUS", name  # text
         assert orders["tracked_order"].values == pytest.approx([RING_TEETH], rel=1e-6)
         assert orders["order_map_amplitude"].sizes["window"] >= 3
         assert orders.attrs["angle_source"].startswith("angle channel")

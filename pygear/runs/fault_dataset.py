@@ -566,9 +566,7 @@ def combine_records(paths: Sequence[Path]) -> xr.Dataset:
         compat="override",
     )
     combined.attrs = {}  # the first record's own: the dataset sets its own
-    combined = combined.assign_coords(
-        record=("record", np.arange(len(records)), {"units": "1", "long_name": "record number"})
-    )
+    combined["record"] = ("record", np.arange(len(records)), {"units": "1", "long_name": "record"})
     combined["record_hash"] = (
         "record",
         [r.attrs["record_hash"] for r in records],
