@@ -60,7 +60,12 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "analyze", help="spectrum, envelope spectrum and DRA of a run's channel (Figs. 10-14)"
     )
     analyze.add_argument("run", metavar="RUN.nc", type=Path, help="a run's NetCDF file")
-    analyze.add_argument("--channel", help="time series to analyse (default: an acceleration)")
+    analyze.add_argument(
+        "--channel",
+        help="time series to analyse: KIND:LABEL (acceleration:planetary.sun.theta_z, "
+        "speed:planetary.carrier), a label one channel has, or a variable's name "
+        "(default: the first acceleration)",
+    )
     analyze.add_argument(
         "--band",
         nargs=2,
