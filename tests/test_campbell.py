@@ -346,10 +346,10 @@ def test_sweep_over_the_carrier_speed(tmp_path, scheduler, study_case):
         scheduler=scheduler,
         progress=False,
     )
-    assert swept["scene.carrier_speed_rpm"].attrs["units"] == "rpm"
+    assert swept["scene__carrier_speed_rpm"].attrs["units"] == "rpm"
     model = assemble(study_case, study_case.scene("modal"))
     for speed in speeds:
-        found = swept.frequency.sel({"scene.carrier_speed_rpm": speed}).values
+        found = swept.frequency.sel(scene__carrier_speed_rpm=speed).values
         direct = speed_dependent_modes(model, study_case, speed).frequency.values
         # modal.py's unscaled state space against the scaled one: 3e-10 relative
         np.testing.assert_allclose(np.sort(found), np.sort(direct), rtol=1e-8, atol=1e-6)

@@ -173,6 +173,7 @@ import dataclasses, json, sys
 import numpy as np
 from pygear import load_case
 from pygear._blas import kernel_blas
+from pygear.analysis.channels import channel_names, channel_series
 from pygear.analysis.transient import run_transient
 
 case = load_case(sys.argv[1])

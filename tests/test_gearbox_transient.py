@@ -140,6 +140,16 @@ def test_parallel_mesh_carries_the_load_torque(short_runs, gearbox_case):
     assert float(ripple) > 1e-3 * normal_force  # the helical mesh's stiffness does vary
 
 
+def _state(run, quantity: str, labels: list[str]) -> np.ndarray:
+    """The full state's ``quantity`` over (time, DOF) in the model's DOF order: the
+    file's translations and rotations (one unit each) put back together."""
+    parts = [
+        run[f"{kind}_{quantity}"].rename({f"{kind}_dof": "dof"})
+        for kind in ("translation", "rotation")
+    ]
+    return xr.concat(parts, "dof").sel(dof=labels).transpose("time", "dof").values
+
+
 def test_energy_balance_closes(gearbox_case):
     """Kinetic plus strain energy at the end equals the drive's work minus the load's
     work and the Rayleigh dissipation (constant stiffness), in the discrete form the
@@ -157,7 +167,7 @@ def test_energy_balance_closes(gearbox_case):
     problem = transient_problem(gearbox_case, scene)
     run = run_transient(gearbox_case, scene, problem=problem)
     model = problem.model
-    q, v = run.displacement.values, run.velocity.values
+    q, v = (_state(run, quantity, model.dof_labels) for quantity in ("displacement", "velocity"))
     input_row = dof_row(model, problem.input_label)
     output_row = -dof_row(model, problem.output_label)  # the law brakes the reversed output
     force = np.outer(run.drive_torque.values, input_row) - np.outer(

@@ -88,7 +88,7 @@ def test_carrier_speed_is_a_straight_line(run, ramp_rate_rpm_s):
     the mass-proportional damping on the rigid rotation, so the carrier ramps linearly
     at the rate that the model's inertia and the scene's torques give."""
     time = run.time.values
-    speed = run.planetary_carrier_speed.values
+    speed = run.speed.sel(member="planetary.carrier").values
     # 240 rpm over 4 s (the case file's aim, from its own hand-summed inertia)
     assert ramp_rate_rpm_s == pytest.approx(60.0, rel=1e-6)
     after = time >= 0.05  # past the elastic start-up under the suddenly applied torques
