@@ -379,7 +379,9 @@ def open_mfdataset(paths, **options) -> xr.Dataset:
     if "combine" not in options:
         options["combine"] = "nested"
         options.setdefault("concat_dim", "scene")
-    for key, value in (("join", "outer"), ("data_vars", "all"), ("coords", "different")):
+    defaults = {"join": "outer", "data_vars": "all", "coords": "different"}
+    defaults["compat"] = "no_conflicts"
+    for key, value in defaults.items():
         options.setdefault(key, value)
     return xr.open_mfdataset(paths, **options)
 
