@@ -165,3 +165,20 @@ def test_sequentially_phased_stage_suppresses_its_mesh_order():
         suppressed = _check_rule(orders, 97 * harmonic)
         assert suppressed[97 * harmonic] < -20.0, (harmonic, suppressed)
         assert max(suppressed.values()) < -20.0, (harmonic, suppressed)
+
+
+def test_study_run_up_records_its_sensor_as_ring_sensor_acceleration():
+    """The study case's run-up keeps its sensor as the channel ring_sensor_acceleration;
+    the steady scene records it into the grouped sensor_acceleration(sensor)."""
+    case = load_case("yang2016_planetary")
+    for name in ("runup_sensor", "steady_sensor"):
+        scene = case.scene(name)
+        short = dataclasses.replace(scene.transient, duration=0.01, mean_window=0.01)
+        scene = dataclasses.replace(scene, transient=short)
+        run = run_transient(case.for_scene(scene), scene)
+        if name == "runup_sensor":
+            assert run["ring_sensor_acceleration"].attrs["target"] == "ring_sensor"
+            assert "sensor_acceleration" not in run
+        else:
+            assert list(run.sensor_acceleration.sensor.values) == ["ring_sensor"]
+            assert "ring_sensor_acceleration" not in run

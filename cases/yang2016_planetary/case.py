@@ -220,19 +220,21 @@ RING_SENSOR = Sensor(
     # ASSUMED: one ring-housing mode at 2.5 kHz with 5 % damping, as strong as the flat path
     structure=(StructuralMode(frequency=2500.0, damping_ratio=0.05, gain=1.0),),
 )
+SENSOR_PROBES = (
+    Probe("sensor", "ring_sensor"),  # sensor_acceleration(sensor="ring_sensor")
+    Probe("displacement", "planetary.carrier.theta_z"),  # angle for synchronous averages
+    Probe("displacement", "planetary.sun.theta_z"),
+    Probe("displacement", "planetary.planet1.theta_z"),  # spin relative to the carrier
+    Probe("speed", "planetary.carrier"),
+    Probe("speed", "planetary.sun"),
+    Probe("mesh_force", "ring-planet1"),
+    Probe("mesh_force", "ring-planet2"),
+    Probe("mesh_force", "ring-planet3"),
+)
+# the run-up names its sensor channel ring_sensor_acceleration (a variable of its own)
 RUNUP_SENSOR = dataclasses.replace(
     RUNUP,
-    probes=(
-        Probe("sensor", "ring_sensor"),
-        Probe("displacement", "planetary.carrier.theta_z"),  # angle for synchronous averages
-        Probe("displacement", "planetary.sun.theta_z"),
-        Probe("displacement", "planetary.planet1.theta_z"),  # spin relative to the carrier
-        Probe("speed", "planetary.carrier"),
-        Probe("speed", "planetary.sun"),
-        Probe("mesh_force", "ring-planet1"),
-        Probe("mesh_force", "ring-planet2"),
-        Probe("mesh_force", "ring-planet3"),
-    ),
+    probes=(Probe("sensor", "ring_sensor", name="ring_sensor_acceleration"), *SENSOR_PROBES[1:]),
 )
 # Steady operation at omega_0 (not in the paper), for the sensor's carrier orders: the
 # run-up's drive and load law, started at 120 rpm; 207 steps and 69 samples per mesh
@@ -240,7 +242,8 @@ RUNUP_SENSOR = dataclasses.replace(
 # of the contact jumps tell the planets apart, docs/condition_monitoring.md)
 STEADY_MESH_FREQUENCY = 96 * RUNUP_SPEED_RPM / 60.0  # Hz: 192 Hz
 STEADY_SENSOR = dataclasses.replace(
-    RUNUP_SENSOR,
+    RUNUP,
+    probes=SENSOR_PROBES,
     duration=4.0,  # s: 8 carrier revolutions
     time_step=1.0 / (207 * STEADY_MESH_FREQUENCY),  # s: 2.52e-5, the run-up's 2.5e-5 rounded
     sample_rate=69 * STEADY_MESH_FREQUENCY,  # Hz: 13.2 kHz
