@@ -317,6 +317,9 @@ def write_run_signals(
         files += written
         analyses.append(analysis)
     if figures:
+        from ..analysis.signal import clear_plan_cache
+
+        clear_plan_cache()  # the FFT plans' aligned buffers (MBs each) before the figures
         for analysis in analyses:
             base = directory / f"{stem}_{channel_file_part(analysis.channel)}"
             files.append(_signal_figure(analysis, base, dataset.attrs))
