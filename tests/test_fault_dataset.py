@@ -128,6 +128,26 @@ def test_dataset_labels_match_its_inputs(dataset_dir):
     assert (out / data.attrs["path"].split("/")[-1]).with_suffix(".md").is_file()
 
 
+def test_dataset_na4_trend_is_the_running_average_of_zakrajsek(dataset_dir):
+    """NA4 trend of record i: its residual's 4th moment over the squared mean residual
+    variance of the records of its speed, load and seed up to its severity (Zakrajsek et
+    al. 1993), recomputed here record by record; 1e-12 allows the round-off of a mean."""
+    _, _, data = dataset_dir
+    for i in range(data.sizes["record"]):
+        record = data.isel(record=i)
+        same = (
+            (data.speed_rpm == record.speed_rpm)
+            & (data.load_nm == record.load_nm)
+            & (data.seed == record.seed)
+            & (data.severity <= record.severity)
+        )
+        mean = float(data.residual_variance.where(same).mean())
+        fourth = float(record.na4) * float(record.residual_variance) ** 2
+        assert float(record.na4_trend) == pytest.approx(fourth / mean**2, rel=1e-12)
+        if float(record.severity) == 0.0:
+            assert float(record.na4_trend) == pytest.approx(float(record.na4), rel=1e-12)
+
+
 def test_dataset_rerun_reuses_every_record(dataset_dir):
     plan, out, first = dataset_dir
     again = run_dataset(plan, out, workers=2, progress=False)

@@ -141,10 +141,6 @@ def add_noise(signal: np.ndarray, snr_db: float | None, seed: int) -> np.ndarray
     return signal + np.random.default_rng(seed).normal(0.0, deviation, size=signal.shape)
 
 
-def _stage(case: Case, name: str) -> PlanetaryStage:
-    return case.gearbox.stage(name)
-
-
 def sensor_plan(
     case: Case, model: Model, probe: Probe, index: int, path: str
 ) -> tuple[SensorPlan, list[KernelProbe]]:
@@ -162,7 +158,7 @@ def sensor_plan(
         raise CaseError(
             f"{path}.target: {probe.target!r} is not a sensor of the case (sensors: {known})"
         )
-    stage = _stage(case, sensor.stage)
+    stage: PlanetaryStage = case.gearbox.stage(sensor.stage)
     prefix = f"{AUXILIARY_PREFIX}{index}_"
     name = sensor.stage
     auxiliary = [Probe("displacement", f"{name}.carrier.theta_z", name=prefix + "carrier")]

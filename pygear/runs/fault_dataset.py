@@ -572,21 +572,15 @@ def combine_records(paths: Sequence[Path]) -> xr.Dataset:
         [r.attrs["record_hash"] for r in records],
         {"long_name": "input hash: the record's file is record_<hash>.nc"},
     )
+    point = np.stack([combined[k].values for k in ("speed_rpm", "load_nm", "seed")], axis=1)
+    severity = combined.severity.values
+    # record j is in record i's trend: same operating point and seed, severity up to i's
+    member = (point[:, None, :] == point[None, :, :]).all(axis=2)
+    member &= severity[None, :] <= severity[:, None]
     for indicator, variance in (("na4", "residual_variance"), ("nb4", "envelope_variance")):
-        trend = np.full(len(records), np.nan)
-        for index in range(len(records)):
-            same = [
-                j
-                for j in range(len(records))
-                if all(
-                    combined[k].values[j] == combined[k].values[index]
-                    for k in ("speed_rpm", "load_nm", "seed")
-                )
-                and combined.severity.values[j] <= combined.severity.values[index]
-            ]
-            mean = float(np.mean(combined[variance].values[same]))
-            own = float(combined[variance].values[index])
-            trend[index] = float(combined[indicator].values[index]) * own**2 / mean**2
+        own = combined[variance].values
+        mean = (member * own[None, :]).sum(axis=1) / member.sum(axis=1)
+        trend = combined[indicator].values * own**2 / mean**2
         combined[f"{indicator}_trend"] = (
             "record",
             trend,
