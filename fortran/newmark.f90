@@ -19,7 +19,9 @@
 !> solve is a product with a dense operator (module newmark_dense) that the problem
 !> keeps at mean mesh stiffness; an advance forms it at the run's k_factored when a
 !> refactor moved that, so the run's state stays the same on both paths (khat_factor,
-!> the band factor, is used on the banded path only).
+!> the band factor, is used on the banded path only).  On the sparse path
+!> (solver_sparse, module newmark_sparse) the matrices are sparse and each solve uses
+!> the problem's CHOLMOD factor of Khat at mean mesh stiffness (no refactor mode).
 !> The DOF order is the caller's (reverse Cuthill-McKee in pygear).
 !>
 !> Meshes (equivalent load, the paper's eq. 25): mesh m has a sparse deflection
@@ -66,7 +68,9 @@ module newmark
   use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
   use flank_contact, only: flank_force_law, flank_compression, flank_coast
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
-  use newmark_problem, only: transient_problem
+  use newmark_problem, only: transient_problem, problem_multiply, matrix_mass, matrix_damping, &
+                            matrix_stiffness
+  use newmark_sparse, only: solve_khat, solve_mass, so_ok
   use newmark_probes, only: record_probes
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
   use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update
@@ -96,7 +100,7 @@ contains
     real(dp), allocatable :: work(:, :), rhs(:), delta(:), offset(:)
     real(dp) :: speed
     integer(ik) :: info, j, n, kd, n_mesh
-    logical :: on, coast_flank
+    logical :: on, coast_flank, sparse
 
     n = problem%n
     kd = problem%kd
@@ -117,12 +121,15 @@ contains
       return
     end if
 
-    khat_factor = problem%khat_band
-    call band_cholesky_factor(n, kd, khat_factor, info)
-    if (info /= 0) then
-      ierr = nm_err_definite
-      bad = int(max(info, 0), ik)
-      return
+    sparse = problem%iparam(ip_solver) == solver_sparse
+    if (.not. sparse) then  ! the sparse path's factor is the problem's
+      khat_factor = problem%khat_band
+      call band_cholesky_factor(n, kd, khat_factor, info)
+      if (info /= 0) then
+        ierr = nm_err_definite
+        bad = int(max(info, 0), ik)
+        return
+      end if
     end if
 
     ! loads and mesh state at t = 0
@@ -137,12 +144,12 @@ contains
     rstate(rs_load) = law_torque(problem%laws, 2, 0.0_dp, member_speed(problem%members, 2, v), &
                               on)
 
-    allocate (rhs(n), delta(n_mesh), offset(n_mesh), work(kd + 1, n))
+    allocate (rhs(n), delta(n_mesh), offset(n_mesh))
     rhs = 0.0_dp
     call add_member(problem%members, 1, rstate(rs_drive), rhs)
     call add_member(problem%members, 2, -rstate(rs_load), rhs)
-    call band_multiply(n, kd, problem%damping_band, v, -1.0_dp, rhs)
-    call band_multiply(n, kd, problem%stiffness_band, q, -1.0_dp, rhs)
+    call problem_multiply(problem, matrix_damping, v, -1.0_dp, rhs)
+    call problem_multiply(problem, matrix_stiffness, q, -1.0_dp, rhs)
     if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
       call mesh_stiffness(q, delta, k_used, offset, ierr)
@@ -152,6 +159,16 @@ contains
         call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
     end if
+    if (sparse) then  ! M's factor is the problem's
+      call solve_mass(problem%sparse, rhs, info)
+      if (info /= so_ok) then
+        ierr = nm_err_solve
+        return
+      end if
+      a = rhs
+      return
+    end if
+    allocate (work(kd + 1, n))
     work = problem%mass_band
     call band_cholesky_factor(n, kd, work, info)
     if (info /= 0) then
@@ -263,7 +280,7 @@ contains
     integer(ik) :: step, it, m, refactors, mode, max_iterations, worst
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
-    logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single
+    logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -312,6 +329,7 @@ contains
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, problem%table%max_pairs, n_mesh))
     dense = problem%iparam(ip_solver) == solver_dense
+    sparse = problem%iparam(ip_solver) == solver_sparse
     loads = load_block(n)
     masses = mass_block(n, n_mesh)
     columns = dense_columns(n, n_mesh)
@@ -333,7 +351,7 @@ contains
       end if
     end if
     restart = problem%iparam(ip_restart) /= 0 .and. nonlinear .and. problem%iparam(ip_varying) /= 0
-    if (restart) then  ! M's factor for the restarts, once per call
+    if (restart .and. .not. sparse) then  ! M's factor for the restarts, once per call
       allocate (mass_factor(kd + 1, n))
       mass_factor = problem%mass_band
       call band_cholesky_factor(n, kd, mass_factor, info)
@@ -376,9 +394,9 @@ contains
         wc = (1.0_dp - alpha_f) * vt + alpha_f * v
         wk = (1.0_dp - alpha_f) * qt + alpha_f * q
         r0 = 0.0_dp
-        call band_multiply(n, kd, problem%damping_band, wc, -1.0_dp, r0)
-        call band_multiply(n, kd, problem%stiffness_band, wk, -1.0_dp, r0)
-        if (alpha_m /= 0.0_dp) call band_multiply(n, kd, problem%mass_band, a, -alpha_m, r0)
+        call problem_multiply(problem, matrix_damping, wc, -1.0_dp, r0)
+        call problem_multiply(problem, matrix_stiffness, wk, -1.0_dp, r0)
+        if (alpha_m /= 0.0_dp) call problem_multiply(problem, matrix_mass, a, -alpha_m, r0)
       end if
       if (alpha_f /= 0.0_dp .and. .not. dense) then
         call add_member(problem%members, 1, alpha_f * rstate(rs_drive), r0)
@@ -443,7 +461,11 @@ contains
             end do
           end if
           rhs = scale_k * rhs
-          call band_cholesky_solve(n, kd, khat_factor, rhs, info)
+          if (sparse) then
+            call solve_khat(problem%sparse, rhs, info)
+          else
+            call band_cholesky_solve(n, kd, khat_factor, rhs, info)
+          end if
           if (info /= 0) then
             ierr = nm_err_solve
             return
@@ -567,7 +589,11 @@ contains
                         -((k_step(mm) - problem%mean_stiffness(mm)) * delta_n - mesh_var(mm)), rhs)
         mesh_var(mm) = (k_step(mm) - problem%mean_stiffness(mm)) * delta_n
       end do
-      call band_cholesky_solve(n, kd, mass_factor, rhs, info)
+      if (sparse) then
+        call solve_mass(problem%sparse, rhs, info)
+      else
+        call band_cholesky_solve(n, kd, mass_factor, rhs, info)
+      end if
       if (info /= 0) then
         ierr = nm_err_solve
         return
@@ -583,8 +609,8 @@ contains
         if (.not. single) call state_product()
       else
         r0 = 0.0_dp
-        call band_multiply(n, kd, problem%damping_band, vt, -1.0_dp, r0)
-        call band_multiply(n, kd, problem%stiffness_band, qt, -1.0_dp, r0)
+        call problem_multiply(problem, matrix_damping, vt, -1.0_dp, r0)
+        call problem_multiply(problem, matrix_stiffness, qt, -1.0_dp, r0)
       end if
     end subroutine restart_acceleration
 

@@ -15,7 +15,10 @@
 !>
 !> A problem on the dense path (iparam(ip_solver) = solver_dense, module newmark_dense)
 !> also keeps its dense operator at mean mesh stiffness and the meshes' deflections of
-!> its columns, formed once here.
+!> its columns, formed once here.  A problem on the sparse path (solver_sparse, module
+!> newmark_sparse) holds M, C and K0 on one sparse pattern instead of the bands (kd = 0,
+!> its band arrays unused) and the CHOLMOD factors of Khat and M, made here and released
+!> with the problem; it refuses equivalent-load mode refactor.
 module newmark_problem
   use kinds, only: dp, ik
   use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
@@ -24,14 +27,23 @@ module newmark_problem
                              n_rparam, n_iparam, rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, &
                              rp_tolerance, rp_deflection, ip_mode, ip_varying, ip_separation, &
                              ip_restart, ip_solver, mode_linear, mode_refactor, solver_banded, &
-                             solver_dense, nm_ok, nm_err_argument, nm_err_definite, nm_err_handle, &
-                             nm_err_full
+                             solver_dense, solver_sparse, nm_ok, nm_err_argument, nm_err_definite, &
+                             nm_err_mass, nm_err_handle, nm_err_full, nm_err_unavailable, &
+                             band_multiply
   use newmark_dense, only: dense_columns, mean_operator
+  use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
+                            symmetric_multiply, so_ok, so_err_definite, so_err_mass, &
+                            so_err_unavailable
   implicit none
   private
 
   public :: transient_problem, create_transient_problem, free_transient_problem, &
-            transient_problem_at
+            transient_problem_at, problem_multiply
+  public :: matrix_mass, matrix_damping, matrix_stiffness
+
+  integer(ik), parameter :: matrix_mass = 1       !< M, for problem_multiply
+  integer(ik), parameter :: matrix_damping = 2    !< C
+  integer(ik), parameter :: matrix_stiffness = 3  !< K0
 
   !> One transient problem; band matrices in LAPACK lower storage, RCM DOF order.
   type :: transient_problem
@@ -56,6 +68,7 @@ module newmark_problem
     type(torque_laws) :: laws                            !< drive and load torque laws
     real(dp), allocatable :: dense_operator(:, :)        !< (3n + n_mesh + 2, n) dense path: X0^T [SI]
     real(dp), allocatable :: dense_mesh_products(:, :)   !< (n_mesh, 3n + n_mesh + 2) dense path: B X0 [SI]
+    type(sparse_operators) :: sparse                     !< sparse path: M, C, K0 and the factors
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of
@@ -94,6 +107,31 @@ contains
       ierr = nm_err_argument
       return
     end if
+    if (kept%iparam(ip_solver) == solver_sparse) then  ! the CHOLMOD factors of Khat and M
+      kept%sparse%n = kept%n
+      call factor_operators(kept%sparse, (1.0_dp - kept%rparam(rp_alpha_m)) / ((1.0_dp - &
+                            kept%rparam(rp_alpha_f)) * kept%rparam(rp_beta) * kept%rparam(rp_dt)**2), &
+                            kept%rparam(rp_gamma) / (kept%rparam(rp_beta) * kept%rparam(rp_dt)), &
+                            bad, info)
+      if (info /= so_ok) then
+        if (info == so_err_definite) then
+          ierr = nm_err_definite
+        else if (info == so_err_mass) then
+          ierr = nm_err_mass
+        else if (info == so_err_unavailable) then
+          ierr = nm_err_unavailable
+        else
+          ierr = nm_err_argument
+        end if
+        return
+      end if
+      call keep_item(registry, kept, handle, ierr)
+      if (ierr /= hd_ok) then
+        call free_operators(kept%sparse)
+        ierr = merge(nm_err_full, nm_err_handle, ierr == hd_err_full)
+      end if
+      return
+    end if
     allocate (kept%khat_band(kept%kd + 1, kept%n))
     call effective_band(kept%n, kept%kd, kept%mass_band, kept%damping_band, kept%stiffness_band, &
                         kept%rparam, kept%khat_band)
@@ -119,7 +157,15 @@ contains
   subroutine free_transient_problem(handle, ierr)
     integer(ik), intent(in) :: handle   !< handle from create_transient_problem [-]
     integer(ik), intent(out) :: ierr    !< error code (0 = ok)
+    class(*), pointer :: item
 
+    call find_item(registry, handle, item, ierr)
+    if (associated(item)) then  ! the CHOLMOD factors live outside the registry
+      select type (item)
+      type is (transient_problem)
+        call free_operators(item%sparse)
+      end select
+    end if
     call release_item(registry, handle, ierr)
     if (ierr /= hd_ok) ierr = nm_err_handle
   end subroutine free_transient_problem
@@ -160,6 +206,13 @@ contains
                rparam => problem%rparam, iparam => problem%iparam)
       if (n < 1 .or. kd < 0 .or. kd > n - 1 .or. n_mesh < 0) return
       if (.not. bands_fit(problem)) return
+      if (iparam(ip_solver) == solver_sparse) then  ! one sparse pattern, no band, no refactor
+        if (kd /= 0 .or. problem%sparse%n /= n .or. .not. pattern_fits(problem%sparse)) return
+        if (iparam(ip_mode) == mode_refactor) then
+          bad = 100 + ip_mode
+          return
+        end if
+      end if
       if (.not. (rparam(rp_dt) > 0.0_dp .and. rparam(rp_dt) < huge(1.0_dp))) then
         bad = rp_dt
         return
@@ -192,7 +245,8 @@ contains
         bad = 100 + ip_mode
         return
       end if
-      if (iparam(ip_solver) /= solver_banded .and. iparam(ip_solver) /= solver_dense) then
+      if (iparam(ip_solver) /= solver_banded .and. iparam(ip_solver) /= solver_dense .and. &
+          iparam(ip_solver) /= solver_sparse) then
         bad = 100 + ip_solver
         return
       end if
@@ -218,6 +272,36 @@ contains
     end associate
     call check_laws(problem%laws, bad, ierr)
   end subroutine check_problem
+
+  !> y = y + scale A x with A the problem's M, C or K0 (matrix_mass, matrix_damping,
+  !> matrix_stiffness), band or sparse.
+  pure subroutine problem_multiply(problem, matrix, x, scale, y)
+    type(transient_problem), intent(in) :: problem  !< a checked problem
+    integer(ik), intent(in) :: matrix               !< which matrix [-]
+    real(dp), intent(in) :: x(problem%n)            !< vector [m, rad or per second]
+    real(dp), intent(in) :: scale                   !< factor on A x [-]
+    real(dp), intent(inout) :: y(problem%n)         !< accumulator [N, N m]
+
+    if (problem%iparam(ip_solver) == solver_sparse) then
+      select case (matrix)
+      case (matrix_mass)
+        call symmetric_multiply(problem%sparse, problem%sparse%mass, x, scale, y)
+      case (matrix_damping)
+        call symmetric_multiply(problem%sparse, problem%sparse%damping, x, scale, y)
+      case default
+        call symmetric_multiply(problem%sparse, problem%sparse%stiffness, x, scale, y)
+      end select
+    else
+      select case (matrix)
+      case (matrix_mass)
+        call band_multiply(problem%n, problem%kd, problem%mass_band, x, scale, y)
+      case (matrix_damping)
+        call band_multiply(problem%n, problem%kd, problem%damping_band, x, scale, y)
+      case default
+        call band_multiply(problem%n, problem%kd, problem%stiffness_band, x, scale, y)
+      end select
+    end if
+  end subroutine problem_multiply
 
   !> The three band matrices are allocated with kd + 1 rows and n columns.
   pure logical function bands_fit(problem)

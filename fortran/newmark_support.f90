@@ -15,11 +15,11 @@ module newmark_support
             probe_mesh_stiffness, probe_drive_torque, probe_load_torque
   public :: nm_ok, nm_err_argument, nm_err_definite, nm_err_mass, nm_err_not_finite, &
             nm_err_deflection, nm_err_convergence, nm_err_contact, nm_err_size, nm_err_solve, &
-            nm_err_handle, nm_err_full
+            nm_err_handle, nm_err_full, nm_err_unavailable
   public :: rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, rp_tolerance, rp_refactor, &
             rp_deflection, rp_speed, rp_acceleration
   public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart, ip_solver
-  public :: solver_banded, solver_dense
+  public :: solver_banded, solver_dense, solver_sparse
   public :: n_rparam, n_iparam, n_rstate, n_istate
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
             is_separated, is_contact, is_restarts, is_coast
@@ -34,6 +34,7 @@ module newmark_support
   ! linear solvers of Khat a = rhs (iparam(ip_solver))
   integer(ik), parameter :: solver_banded = 0   !< banded Cholesky factor, dpbtrs per solve
   integer(ik), parameter :: solver_dense = 1    !< dense Khat^-1 products, dgemv (module newmark_dense)
+  integer(ik), parameter :: solver_sparse = 2   !< CHOLMOD factor of Khat (module newmark_sparse)
 
   ! torque laws
   integer(ik), parameter :: law_none = 0         !< no torque
@@ -64,6 +65,7 @@ module newmark_support
   integer(ik), parameter :: nm_err_solve = 9        !< dpbtrs failed
   integer(ik), parameter :: nm_err_handle = 10      !< not the handle of a live problem or contact table
   integer(ik), parameter :: nm_err_full = 11        !< the problem registry is full
+  integer(ik), parameter :: nm_err_unavailable = 12 !< the sparse path was built without CHOLMOD
 
   ! rparam layout
   integer, parameter :: rp_dt = 1, rp_beta = 2, rp_gamma = 3, rp_alpha_m = 4, rp_alpha_f = 5, &
@@ -73,7 +75,7 @@ module newmark_support
   integer, parameter :: ip_mode = 1, ip_iterations = 2, ip_varying = 3, ip_separation = 4, &
                         ip_refactors = 5, &
                         ip_restart = 6, & ! restart a at mesh-stiffness jumps (0/1)
-                        ip_solver = 7     ! solver_banded or solver_dense
+                        ip_solver = 7     ! solver_banded, solver_dense or solver_sparse
   ! istate layout
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
                         is_max_iterations = 5, is_window = 6, is_separated = 7, &

@@ -1,7 +1,8 @@
 !> The flat layer f2py sees for the banded Newmark integrator (modules newmark and
 !> newmark_problem): explicit-shape arrays, sizes passed in, error code last.  Nothing
 !> is computed here.  transient_problem_create takes the matrices, settings, meshes
-!> (with a contact-table handle) and loads once and returns a problem handle;
+!> (with a contact-table handle) and loads once and returns a problem handle (the
+!> matrices as bands, or, on the sparse path, kd = 0 and the sparse_* arrays);
 !> transient_start factors Khat and finds the initial acceleration; transient_advance
 !> runs a chunk of steps and returns the whole state, so Python can show progress,
 !> stop between chunks and checkpoint.  Layouts of rparam, iparam, rstate and istate
@@ -14,10 +15,13 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
                                     contact_sign, backlash, coast_phase, table_handle, load_ptr, &
                                     n_load_nz, load_index, &
                                     load_value, law_kind, law_param, law_start, law_size, n_table, &
-                                    law_table, handle, bad, ierr)
+                                    law_table, n_sparse_nz, sparse_column_start, &
+                                    sparse_row_index, sparse_mass, sparse_damping, &
+                                    sparse_stiffness, handle, bad, ierr)
   use kinds, only: dp, ik
   use newmark_support, only: sparse_rows, torque_laws
   use newmark_problem, only: transient_problem, create_transient_problem
+  use newmark_sparse, only: sparse_operators
   implicit none
   integer(ik), intent(in) :: n                          !< DOFs [-]
   integer(ik), intent(in) :: kd                         !< band subdiagonals [-]
@@ -50,6 +54,12 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
   integer(ik), intent(in) :: law_size(2)                !< table samples [-]
   integer(ik), intent(in) :: n_table                    !< columns of law_table [-]
   real(dp), intent(in) :: law_table(2, n_table)         !< (time [s], torque [N m]) samples
+  integer(ik), intent(in) :: n_sparse_nz                !< stored entries of the sparse pattern [-]
+  integer(ik), intent(in) :: sparse_column_start(n + 1) !< 0-based CSC column pointers (sparse path) [-]
+  integer(ik), intent(in) :: sparse_row_index(n_sparse_nz) !< 0-based rows, lower triangle [-]
+  real(dp), intent(in) :: sparse_mass(n_sparse_nz)      !< M on the pattern [kg, kg m^2]
+  real(dp), intent(in) :: sparse_damping(n_sparse_nz)   !< C on the pattern [N s/m, N m s/rad]
+  real(dp), intent(in) :: sparse_stiffness(n_sparse_nz) !< K0 on the pattern [N/m, N m/rad]
   integer(ik), intent(out) :: handle                    !< the problem's handle, 0 on error [-]
   integer(ik), intent(out) :: bad                       !< offending index for ierr [-]
   integer(ik), intent(out) :: ierr                      !< error code (0 = ok)
@@ -64,7 +74,12 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
                                                   backlash=backlash, coast_phase=coast_phase, &
                                                   members=sparse_rows(load_ptr, load_index, load_value), &
                                                   laws=torque_laws(law_kind, law_param, law_start, &
-                                                                   law_size, law_table)), &
+                                                                   law_size, law_table), &
+                                                  sparse=sparse_operators( &
+                                                  n=n, column_start=sparse_column_start, &
+                                                  row_index=sparse_row_index, mass=sparse_mass, &
+                                                  damping=sparse_damping, &
+                                                  stiffness=sparse_stiffness)), &
                                 table_handle, handle, bad, ierr)
 end subroutine transient_problem_create
 

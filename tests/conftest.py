@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -115,6 +116,60 @@ def roundoff_tolerance(steps: int, amplification: float, safety: float = 10.0) -
     and it stays four orders of magnitude below what a missing coupling would change.
     """
     return safety * math.sqrt(steps) * DOUBLE_EPSILON * amplification
+
+
+def short_scene(case, name: str, duration: float, **changes):
+    """Scene ``name`` of ``case`` cut to ``duration`` seconds (transient only)."""
+    scene = case.scene(name)
+    changes.setdefault("mean_window", min(scene.transient.mean_window, duration))
+    settings = dataclasses.replace(scene.transient, duration=duration, **changes)
+    return dataclasses.replace(scene, transient=settings, analyses=("transient",))
+
+
+def run_on_paths(monkeypatch, case, scene, paths) -> dict:
+    """The scene run once on each of the kernel's linear-solver paths, forced by the
+    environment variable; each run must say it ran on that path and why."""
+    from pygear.analysis.transient import run_transient
+    from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
+
+    runs = {}
+    for path in paths:
+        monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, path)
+        runs[path] = run_transient(case, scene)
+        assert runs[path].attrs["linear_solver"] == path
+        assert LINEAR_SOLVER_VARIABLE in runs[path].attrs["linear_solver_reason"]
+    return runs
+
+
+def study_roundoff(study_case, run) -> float:
+    """Round-off of the study run-up: the sun-planet deflection against the sun's turn."""
+    stage = study_case.gearbox.stages[0]
+    turn = float(np.abs(run.speed.sel(member="planetary.sun")).max()) * math.pi / 30  # rad/s
+    angle = turn * run.attrs["duration"]
+    force = float(np.sqrt(np.mean(run.mesh_force.sel(mesh="planetary.sun-planet1").values ** 2)))
+    amplification = rigid_to_elastic_ratio(
+        stage.sun.base_radius, angle, force, stage.sun_mesh.stiffness
+    )
+    return roundoff_tolerance(run.attrs["steps"], amplification)
+
+
+def assert_channels_agree(reference, other, tolerance: float, round_off_only: dict) -> None:
+    """Every time channel of two runs within tolerance of its scale; a channel that is
+    zero in exact arithmetic is measured against the channel ``round_off_only`` names."""
+    from pygear.analysis.channels import channel_names, channel_series
+
+    channels = channel_names(reference)
+    assert channels
+    for name in channels:
+        scale = float(
+            np.abs(channel_series(reference, round_off_only.get(name, name)).values).max()
+        )
+        difference = float(
+            np.abs(
+                channel_series(other, name).values - channel_series(reference, name).values
+            ).max()
+        )
+        assert difference <= tolerance * max(scale, 1e-300), name
 
 
 def single_mesh_table(

@@ -10,16 +10,21 @@ bit-identity.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import rigid_to_elastic_ratio, roundoff_tolerance
+from conftest import (
+    assert_channels_agree,
+    rigid_to_elastic_ratio,
+    roundoff_tolerance,
+    run_on_paths,
+    short_scene,
+    study_roundoff,
+)
 
 from pygear import load_case
-from pygear.analysis.channels import channel_names, channel_series
 from pygear.analysis.transient import run_transient
 from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE, choose_linear_solver
@@ -28,49 +33,14 @@ GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"
 PATHS = ("banded_cholesky", "dense_inverse")
 
 
-def _short(case, name: str, duration: float, **changes):
-    """Scene ``name`` of ``case`` cut to ``duration`` seconds (transient only)."""
-    scene = case.scene(name)
-    changes.setdefault("mean_window", min(scene.transient.mean_window, duration))
-    settings = dataclasses.replace(scene.transient, duration=duration, **changes)
-    return dataclasses.replace(scene, transient=settings, analyses=("transient",))
-
-
 def _both_paths(monkeypatch, case, scene) -> dict:
     """The scene run once on each path, forced by the environment variable."""
-    runs = {}
-    for path in PATHS:
-        monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, path)
-        runs[path] = run_transient(case, scene)
-        assert runs[path].attrs["linear_solver"] == path
-        assert LINEAR_SOLVER_VARIABLE in runs[path].attrs["linear_solver_reason"]
-    return runs
-
-
-def _study_tolerance(study_case, run) -> float:
-    """Round-off of the study run-up: the sun-planet deflection against the sun's turn."""
-    stage = study_case.gearbox.stages[0]
-    turn = float(np.abs(run.speed.sel(member="planetary.sun")).max()) * math.pi / 30  # rad/s
-    angle = turn * run.attrs["duration"]
-    force = float(np.sqrt(np.mean(run.mesh_force.sel(mesh="planetary.sun-planet1").values ** 2)))
-    amplification = rigid_to_elastic_ratio(
-        stage.sun.base_radius, angle, force, stage.sun_mesh.stiffness
-    )
-    return roundoff_tolerance(run.attrs["steps"], amplification)
+    return run_on_paths(monkeypatch, case, scene, PATHS)
 
 
 def _assert_channels_agree(runs: dict, tolerance: float, round_off_only: dict) -> None:
-    """Every time channel of the two runs within tolerance of its scale; a channel that is
-    zero in exact arithmetic is measured against the channel ``round_off_only`` names."""
-    banded, dense = (runs[path] for path in PATHS)
-    channels = channel_names(banded)
-    assert channels
-    for name in channels:
-        scale = float(np.abs(channel_series(banded, round_off_only.get(name, name)).values).max())
-        difference = float(
-            np.abs(channel_series(dense, name).values - channel_series(banded, name).values).max()
-        )
-        assert difference <= tolerance * max(scale, 1e-300), name
+    """Every channel of the dense run within tolerance of the banded run's."""
+    assert_channels_agree(runs[PATHS[0]], runs[PATHS[1]], tolerance, round_off_only)
 
 
 def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch):
@@ -78,9 +48,9 @@ def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch
     0.2 s, past t_s (0.158 s, the load law switches on): every channel within
     conftest.roundoff_tolerance (about 1e-5), where a wrong column of the dense operator
     would move the speeds and mesh forces by percents."""
-    scene = _short(study_case, "runup", 0.2, mean_window=0.05)
+    scene = short_scene(study_case, "runup", 0.2, mean_window=0.05)
     runs = _both_paths(monkeypatch, study_case, scene)
-    tolerance = _study_tolerance(study_case, runs["banded_cholesky"])
+    tolerance = study_roundoff(study_case, runs["banded_cholesky"])
     assert tolerance < 1e-4  # tight enough to see a wrong term
     # in-phase, equally spaced planets excite no ring translation: round-off on both
     _assert_channels_agree(
@@ -96,7 +66,7 @@ def test_dense_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
     every channel within conftest.roundoff_tolerance; the parallel pair, the fastest,
     turns furthest against its deflection and sets the amplification."""
     gearbox = load_case(GEARBOX)
-    scene = _short(gearbox, "runup_tv", 0.05, mean_window=0.01)
+    scene = short_scene(gearbox, "runup_tv", 0.05, mean_window=0.01)
     runs = _both_paths(monkeypatch, gearbox, scene)
     banded = runs["banded_cholesky"]
     assert banded.attrs["dof_count"] == 50
@@ -130,7 +100,7 @@ def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, c
     loads move less than the tolerance (1e-8 of the largest mesh force), so the two may
     also differ by that much per step, accumulating like round-off (a random walk over
     the steps, safety 10): the bound is the larger of that and the round-off bound."""
-    scene = _short(study_case, "runup", 0.05, mean_window=0.02, **changes)
+    scene = short_scene(study_case, "runup", 0.05, mean_window=0.02, **changes)
     runs = _both_paths(monkeypatch, study_case, scene)
     banded = runs["banded_cholesky"]
     if changes["equivalent_load"] == "refactor":
@@ -138,7 +108,7 @@ def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, c
     if changes.get("restart_at_jumps"):
         assert banded.attrs["solver_restarts"] > 0
     iteration = 10.0 * math.sqrt(banded.attrs["steps"]) * banded.attrs["tolerance"]
-    tolerance = max(_study_tolerance(study_case, banded), iteration)
+    tolerance = max(study_roundoff(study_case, banded), iteration)
     _assert_channels_agree(
         runs, tolerance, {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"}
     )
@@ -149,7 +119,7 @@ def test_automatic_choice_is_the_backward_stable_path_and_recorded(study_case, m
     the banded Cholesky path: the dense inverse is faster there but drifts over long runs
     (tests/test_long_runs.py); the run's attributes say which path ran and why."""
     monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
-    run = run_transient(study_case, _short(study_case, "runup", 0.005))
+    run = run_transient(study_case, short_scene(study_case, "runup", 0.005))
     assert run.attrs["linear_solver"] == "banded_cholesky"
     reason = run.attrs["linear_solver_reason"]
     assert reason.startswith("automatic") and "18 DOFs" in reason

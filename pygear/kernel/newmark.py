@@ -29,8 +29,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernel
-from .band_ordering import band_half_width, reverse_cuthill_mckee
 from .newmark_rebase import RigidRebase
+from .newmark_storage import is_sparse_matrix, kernel_storage
 from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
     ISTATE_LAYOUT,
@@ -42,7 +42,6 @@ from .newmark_support import (
     TransientError,
     TransientInterrupted,
     checkpoint_key,
-    choose_linear_solver,
     deferred_interrupt,
     growth_diagnostic,
     kernel_error,
@@ -232,9 +231,9 @@ class BandedNewmark:
 
     def __init__(
         self,
-        mass: np.ndarray,
-        damping: np.ndarray,
-        stiffness: np.ndarray,
+        mass: np.ndarray | object,
+        damping: np.ndarray | object,
+        stiffness: np.ndarray | object,
         time_step: float,
         *,
         integrator: str = "newmark",
@@ -257,7 +256,8 @@ class BandedNewmark:
         linear_solver: str = "auto",
     ) -> None:
         mass, damping, stiffness = (
-            np.asarray(x, dtype=np.float64) for x in (mass, damping, stiffness)
+            x if is_sparse_matrix(x) else np.asarray(x, dtype=np.float64)
+            for x in (mass, damping, stiffness)
         )
         n = mass.shape[0]
         self.n = n
@@ -269,22 +269,26 @@ class BandedNewmark:
         nonlinear = self.meshes is not None and (self.meshes.time_varying or self.meshes.separation)
         self.equivalent_load = equivalent_load if nonlinear else "linear"
 
-        pattern = (np.abs(mass) + np.abs(damping) + np.abs(stiffness)) > 0
-        if self.meshes is not None:
-            nz = np.abs(self.meshes.deflection) > 0
-            pattern |= (nz.T.astype(int) @ nz.astype(int)) > 0
-        pattern |= np.eye(n, dtype=bool)
-        self.order = reverse_cuthill_mckee(pattern)
+        storage = kernel_storage(
+            mass,
+            damping,
+            stiffness,
+            self.meshes.deflection if self.meshes is not None else None,
+            linear_solver,
+        )
+        self.order = storage.order
         self.position = np.empty(n, dtype=int)
         self.position[self.order] = np.arange(n)
-        self.bandwidth = band_half_width(pattern, self.order)
-        self.linear_solver, self.linear_solver_reason = choose_linear_solver(
-            n, self.bandwidth, linear_solver
-        )
-        self.bands = {
-            name: self._band(matrix)
-            for name, matrix in (("mass", mass), ("damping", damping), ("stiffness", stiffness))
-        }
+        self.bandwidth = storage.bandwidth
+        self.linear_solver, self.linear_solver_reason = storage.linear_solver, storage.reason
+        self.bands = storage.bands
+        self.sparse_arguments = storage.sparse
+        if self.linear_solver == "sparse_cholesky" and self.equivalent_load == "refactor":
+            raise ValueError(
+                "equivalent_load 'refactor' needs the banded or dense path: the sparse path "
+                "keeps one CHOLMOD factor of Khat (use 'iterate', or linear_solver="
+                "'banded_cholesky')"
+            )
 
         c = self.coefficients
         self.rparam = np.array(
@@ -333,15 +337,6 @@ class BandedNewmark:
         )
 
     # --- set-up ------------------------------------------------------------------------------
-
-    def _band(self, matrix: np.ndarray) -> np.ndarray:
-        """LAPACK lower band storage of a matrix in RCM order."""
-        permuted = matrix[np.ix_(self.order, self.order)]
-        kd = self.bandwidth
-        band = np.zeros((kd + 1, self.n), order="F")
-        for d in range(kd + 1):
-            band[d, : self.n - d] = np.diagonal(permuted, -d)
-        return band
 
     def _sparse_rows(self, rows: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Pointers, 1-based RCM positions and values of sparse rows over the DOFs."""
@@ -453,6 +448,7 @@ class BandedNewmark:
                 iparam=self.iparam,
                 table_handle=self.table.handle if self.table is not None else 0,
                 **self.arguments,
+                **self.sparse_arguments,
             )
             if ierr:
                 raise self._error(int(ierr), int(bad), 0, "starting")
@@ -582,7 +578,14 @@ class BandedNewmark:
         )
         table = self.table.kernel_arguments() if self.table is not None else ()
         key = checkpoint_key(
-            (*self.bands.values(), self.rparam, self.iparam, *self.arguments.values(), *table),
+            (
+                *self.bands.values(),
+                *self.sparse_arguments.values(),
+                self.rparam,
+                self.iparam,
+                *self.arguments.values(),
+                *table,
+            ),
             (n_steps, decimation, window_steps, identity),
             probes,
             (*probe_args.values(), *(x for x in (q0, v0, a0) if x is not None)),

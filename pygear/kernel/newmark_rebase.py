@@ -59,18 +59,24 @@ class RigidRebase:
         cycle_sign: np.ndarray | None = None,
         teeth: np.ndarray | None = None,
     ) -> None:
-        import scipy.linalg
-
         n = mass.shape[0]
         self.modes = np.zeros((n, 0))
-        try:
-            values, vectors = scipy.linalg.eigh(stiffness, mass)
-        except (np.linalg.LinAlgError, ValueError):
-            return  # M not positive definite: no rebasing
-        scale = max(float(np.abs(values).max()), 1e-300)
-        rigid = vectors[:, np.abs(values) <= 1e-8 * scale]
+        if type(mass).__module__.startswith("scipy.sparse"):
+            rigid = _sparse_rigid_modes(mass, stiffness)
+            if rigid is None:
+                return
+            self.mass = mass.tocsr()[order][:, order]
+        else:
+            import scipy.linalg
+
+            try:
+                values, vectors = scipy.linalg.eigh(stiffness, mass)
+            except (np.linalg.LinAlgError, ValueError):
+                return  # M not positive definite: no rebasing
+            scale = max(float(np.abs(values).max()), 1e-300)
+            rigid = vectors[:, np.abs(values) <= 1e-8 * scale]
+            self.mass = mass[np.ix_(order, order)]
         self.modes = rigid[order]  # kernel order
-        self.mass = mass[np.ix_(order, order)]
         self.cycles_per_unit = None
         if angle is not None and cycle_sign is not None and teeth is not None and rigid.size:
             # mesh-cycle change per unit modal coordinate: sigma Z1 (angle . phi) / 2 pi
@@ -136,3 +142,48 @@ class RigidRebase:
         if not self.active:
             return np.zeros(0)
         return self.modes @ state["rigid_offset"]
+
+
+RIGID_MODES_SOUGHT = 6
+"""Lowest modes a sparse model is searched for rigid-body motions (a free body has 6)."""
+
+
+def _sparse_rigid_modes(mass, stiffness) -> np.ndarray | None:
+    """Mass-normalised rigid-body modes of a large sparse model, or None.
+
+    Shift-invert Lanczos (SciPy ``eigsh``) for the :data:`RIGID_MODES_SOUGHT` lowest
+    modes of (K0, M), shifted below zero so that K0 - sigma M is positive definite; a
+    mode is rigid when its eigenvalue is below 1e-10 of the largest diagonal ratio
+    K_ii / M_ii (a lower bound of the largest eigenvalue) and 1e-4 of every elastic
+    eigenvalue found (a drivetrain's stiff shafts put that ratio near 1e12 (rad/s)^2,
+    so the scale alone would take a 2 Hz torsional mode for rigid).
+    """
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    n = mass.shape[0]
+    stiffness = scipy.sparse.csc_matrix(stiffness)
+    mass = scipy.sparse.csc_matrix(mass)
+    diagonal_mass = mass.diagonal()
+    if n < 3 or not np.all(diagonal_mass > 0):
+        return None
+    ratios = np.abs(stiffness.diagonal()) / diagonal_mass
+    scale = max(float(ratios.max()), 1e-300)
+    shift = -1e-6 * max(float(np.median(ratios[ratios > 0])) if np.any(ratios > 0) else 1.0, 1e-300)
+    try:
+        values, vectors = scipy.sparse.linalg.eigsh(
+            stiffness, k=min(RIGID_MODES_SOUGHT, n - 2), M=mass, sigma=shift, which="LM"
+        )
+    except (RuntimeError, ValueError, scipy.sparse.linalg.ArpackError):
+        return None
+    # a zero eigenvalue comes out at about eps K_ii / M_ii: 1e-10 of the scale leaves a
+    # margin of 5e5 over that, and a rigid mode must also lie 1e4 below every elastic one
+    zero = np.abs(values) <= 1e-10 * scale
+    if np.any(~zero):
+        zero &= np.abs(values) <= 1e-4 * np.abs(values[~zero]).min()
+    rigid = vectors[:, zero]
+    # eigsh's vectors are M-orthonormal; orthonormalise again against rounding
+    if rigid.shape[1] > 1:
+        gram = rigid.T @ (mass @ rigid)
+        rigid = rigid @ np.linalg.inv(np.linalg.cholesky(gram)).T
+    return rigid

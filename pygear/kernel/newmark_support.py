@@ -42,7 +42,7 @@ __all__ = [
 EQUIVALENT_LOAD_CODES = {"linear": 0, "predictor": 1, "iterate": 2, "refactor": 3}
 """Kernel codes of the equivalent-load modes (``linear``: no mesh terms at all)."""
 
-LINEAR_SOLVER_CODES = {"banded_cholesky": 0, "dense_inverse": 1}
+LINEAR_SOLVER_CODES = {"banded_cholesky": 0, "dense_inverse": 1, "sparse_cholesky": 2}
 """Kernel codes of the linear solvers of Khat a = rhs (``fortran/newmark_dense.f90``)."""
 
 LAW_CODES = {"none": 0, "constant": 1, "ramp": 2, "table": 3, "speed_power": 4}
@@ -95,8 +95,9 @@ ISTATE_LAYOUT = (
 
 
 LINEAR_SOLVER_VARIABLE = "PYGEAR_LINEAR_SOLVER"
-"""Environment variable that forces the kernel's linear solver (``banded_cholesky`` or
-``dense_inverse``) over the automatic choice, e.g. to compare the two paths."""
+"""Environment variable that forces the kernel's linear solver (``banded_cholesky``,
+``dense_inverse`` or ``sparse_cholesky``) over the automatic choice, e.g. to compare the
+paths."""
 
 DENSE_DOFS_NARROW_BAND = 120
 """Largest model the automatic choice puts on the dense path when its band is narrow
@@ -372,6 +373,12 @@ def kernel_error(
         )
     if ierr == 11:
         return TransientError(f"transient {phase}: the kernel holds too many problems (65535)")
+    if ierr == 12:
+        return TransientError(
+            f"transient {phase}: linear_solver 'sparse_cholesky' needs CHOLMOD, and this "
+            "build of pygear has none: install SuiteSparse (Debian: libsuitesparse-dev) and "
+            "rebuild, or use linear_solver='banded_cholesky'"
+        )
     return TransientError(f"transient {phase} {when}: kernel error code {ierr}")
 
 

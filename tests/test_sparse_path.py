@@ -1,0 +1,196 @@
+"""The kernel's sparse path (fortran/newmark_sparse.f90): M, C, K0 on one sparse pattern,
+Khat and M factored by CHOLMOD.
+
+The sparse path computes the same step as the banded path in exact arithmetic (the
+same right-hand side, a different factorization of the same Khat), so on the study case
+and the gearbox their runs may differ by round-off only: the bound is
+conftest.roundoff_tolerance with the mesh deflection's rigid-to-elastic ratio.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse
+from conftest import (
+    CASES,
+    assert_channels_agree,
+    rigid_to_elastic_ratio,
+    roundoff_tolerance,
+    run_on_paths,
+    short_scene,
+    study_roundoff,
+)
+
+from pygear import load_case
+from pygear.kernel.newmark import BandedNewmark, KernelProbe
+from pygear.kernel.newmark_rebase import RigidRebase
+from pygear.kernel.newmark_storage import SPARSE_MIN_DOFS, kernel_storage
+from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
+from pygear.kernel.sparse_cholesky import sparse_cholesky_available
+
+PATHS = ("banded_cholesky", "sparse_cholesky")
+
+pytestmark = pytest.mark.skipif(
+    not sparse_cholesky_available(), reason="this build has no CHOLMOD (libsuitesparse-dev)"
+)
+
+
+def test_sparse_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch):
+    """The study run-up (18 DOFs, time-varying stiffness, predictor) over 0.2 s, past
+    t_s: every channel within conftest.roundoff_tolerance (about 1e-5), where a wrong
+    entry of the sparse pattern would move speeds and mesh forces by percents."""
+    scene = short_scene(study_case, "runup", 0.2, mean_window=0.05)
+    runs = run_on_paths(monkeypatch, study_case, scene, PATHS)
+    banded, sparse = (runs[path] for path in PATHS)
+    tolerance = study_roundoff(study_case, banded)
+    assert tolerance < 1e-4
+    assert_channels_agree(
+        banded,
+        sparse,
+        tolerance,
+        {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"},
+    )
+    assert sparse.t_s.item() == pytest.approx(banded.t_s.item(), rel=tolerance)
+
+
+def test_sparse_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
+    """The gearbox run-up (50 DOFs, 15 meshes, the helical parallel pair): every channel
+    within conftest.roundoff_tolerance set by the fastest pair's turn."""
+    gearbox = load_case(CASES / "yang2016_gearbox")
+    scene = short_scene(gearbox, "runup_tv", 0.05, mean_window=0.01)
+    runs = run_on_paths(monkeypatch, gearbox, scene, PATHS)
+    banded, sparse = (runs[path] for path in PATHS)
+    pair = gearbox.gearbox.stages[2]
+    turned = float(np.abs(banded.speed.sel(member="parallel.input_gear")).max()) * math.pi / 30
+    force = float(np.sqrt(np.mean(banded.mesh_force.sel(mesh="parallel.input-output").values ** 2)))
+    tolerance = roundoff_tolerance(
+        banded.attrs["steps"],
+        rigid_to_elastic_ratio(
+            pair.input_gear.base_radius, turned * 0.05, force, pair.mesh.stiffness
+        ),
+    )
+    assert tolerance < 1e-5
+    assert_channels_agree(banded, sparse, tolerance, {})
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {"equivalent_load": "iterate", "restart_at_jumps": True},
+        {"integrator": "generalized-alpha"},
+    ],
+    ids=["iterate-restart", "generalized-alpha"],
+)
+def test_sparse_and_banded_agree_in_the_other_modes(study_case, monkeypatch, changes):
+    """The restarts solve with M's CHOLMOD factor, the generalized-alpha scheme adds the
+    alpha_m M a_n product on the sparse pattern: both paths within the round-off bound,
+    or the iteration tolerance accumulated like round-off (as in tests/test_dense_path.py)."""
+    scene = short_scene(study_case, "runup", 0.05, mean_window=0.02, **changes)
+    runs = run_on_paths(monkeypatch, study_case, scene, PATHS)
+    banded, sparse = (runs[path] for path in PATHS)
+    if changes.get("restart_at_jumps"):
+        assert banded.attrs["solver_restarts"] > 0 and sparse.attrs["solver_restarts"] > 0
+    iteration = 10.0 * math.sqrt(banded.attrs["steps"]) * banded.attrs["tolerance"]
+    tolerance = max(study_roundoff(study_case, banded), iteration)
+    assert_channels_agree(
+        banded,
+        sparse,
+        tolerance,
+        {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"},
+    )
+
+
+def test_refactor_mode_is_refused_on_the_sparse_path(study_case, monkeypatch):
+    """The sparse path keeps one factor of Khat: refactoring is refused before any work,
+    with the way out named."""
+    monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, "sparse_cholesky")
+    from pygear.analysis.transient import run_transient
+
+    scene = short_scene(study_case, "runup", 0.01, equivalent_load="refactor")
+    with pytest.raises(ValueError, match="refactor.*banded"):
+        run_transient(study_case, scene)
+
+
+def _chain(n: int, spring: float = 1.0e6, mass: float = 2.0, grounded: bool = True):
+    """A spring-mass chain as SciPy sparse matrices (fixed at one end when grounded)."""
+    main = np.full(n, 2.0 * spring)
+    main[-1] = spring
+    if not grounded:
+        main[0] = spring
+    stiffness = scipy.sparse.diags(
+        [main, np.full(n - 1, -spring), np.full(n - 1, -spring)], [0, 1, -1], format="csc"
+    )
+    return scipy.sparse.identity(n, format="csc") * mass, stiffness
+
+
+def test_sparse_chain_free_vibration_matches_its_modal_solution(monkeypatch):
+    """A fixed-free chain of 3000 masses (the automatic choice takes the sparse path),
+    started in its first mode: average acceleration keeps the mode's amplitude and
+    stretches its period by the known factor, omega_h = (2/dt) atan(omega dt / 2)
+    (Newmark's trapezoidal rule; Hughes, The Finite Element Method, 1987, sec. 9.3).
+    The last mass's displacement follows A cos(omega_h t) to round-off of the solves."""
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    n, spring, mass = 3000, 1.0e6, 2.0
+    mass_matrix, stiffness = _chain(n, spring, mass)
+    j = np.arange(1, n + 1)
+    omega = 2.0 * math.sqrt(spring / mass) * math.sin(math.pi / (2 * (2 * n + 1)))
+    shape = np.sin(j * math.pi / (2 * n + 1))  # the first fixed-free mode, exactly
+    dt = 0.05 / omega
+    solver = BandedNewmark(mass_matrix, 0.0 * stiffness, stiffness, dt)
+    assert solver.linear_solver == "sparse_cholesky"
+    assert solver.linear_solver_reason.startswith("automatic")
+    weights = np.zeros(n)
+    weights[-1] = 1.0
+    steps = 400
+    run = solver.run(steps, [KernelProbe("tip", "displacement", weights)], q0=1e-3 * shape)
+    omega_h = (2.0 / dt) * math.atan(omega * dt / 2.0)
+    expected = 1e-3 * shape[-1] * np.cos(omega_h * run.time)
+    # each solve errs by about cond(Khat) eps (Higham 2002, sec. 10.1), cond(Khat) =
+    # (4 k/m + 4/dt^2) / (4/dt^2) about 4e4 here; over the steps like a random walk,
+    # safety 10 (conftest.roundoff_tolerance)
+    condition = (4.0 * spring / mass + 4.0 / dt**2) / (4.0 / dt**2)
+    tolerance = 10.0 * math.sqrt(steps) * np.finfo(float).eps * condition
+    assert tolerance < 1e-8
+    assert np.abs(run.samples[0] - expected).max() <= tolerance * 1e-3 * shape[-1]
+
+
+def test_automatic_choice_by_size_and_band(monkeypatch):
+    """Dense input stays on the banded (or dense) path; sparse input goes to CHOLMOD
+    when large (SPARSE_MIN_DOFS) or when its RCM band would hold far more than its
+    pattern (a chain closed into a ring by long springs), and stays banded when small
+    and narrow."""
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    mass, stiffness = _chain(50)
+    assert kernel_storage(mass, 0 * mass, stiffness, None).linear_solver == "banded_cholesky"
+    dense = kernel_storage(mass.toarray(), np.zeros((50, 50)), stiffness.toarray(), None)
+    assert dense.linear_solver == "banded_cholesky"
+    mass, stiffness = _chain(SPARSE_MIN_DOFS)
+    assert kernel_storage(mass, 0 * mass, stiffness, None).linear_solver == "sparse_cholesky"
+    # a 400-DOF chain with every 10th mass tied to mass 0: a band as wide as the model
+    mass, stiffness = _chain(400)
+    ties = scipy.sparse.lil_matrix((400, 400))
+    for k in range(10, 400, 10):
+        ties[0, 0] += 1.0
+        ties[k, k] += 1.0
+        ties[0, k] = ties[k, 0] = -1.0
+    storage = kernel_storage(mass, 0 * mass, stiffness + ties.tocsc(), None)
+    assert storage.linear_solver == "sparse_cholesky"
+    assert "times the pattern" in storage.reason
+
+
+def test_sparse_rigid_modes_of_a_free_chain():
+    """A free chain has one rigid mode (uniform displacement, mass-normalised: 1 /
+    sqrt(n m)); a grounded one has none, even with a low first mode."""
+    n, mass = 2500, 2.0
+    mass_matrix, stiffness = _chain(n, 1.0e9, mass, grounded=False)
+    rebase = RigidRebase(mass_matrix, stiffness, np.arange(n))
+    assert rebase.modes.shape == (n, 1)
+    # eigsh's vector to its convergence tolerance, relative to the entries
+    assert np.abs(np.abs(rebase.modes[:, 0]) - 1.0 / math.sqrt(n * mass)).max() <= 1e-6 / math.sqrt(
+        n * mass
+    )
+    mass_matrix, stiffness = _chain(n, 1.0e9, mass, grounded=True)
+    assert not RigidRebase(mass_matrix, stiffness, np.arange(n)).active
