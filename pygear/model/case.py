@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from ..errors import CaseError
 from .case_files import find_case_dir, load_case_module
 from .components import ToothDefect, is_finite_number, plain_numbers, require_non_negative
+from .drivetrain import Drivetrain
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
 from .sensors import Sensor, validate_sensors
@@ -184,6 +185,9 @@ class Case:
     sensors : tuple of Sensor
         Accelerometers on the ring or housing of a planetary stage; a transient's
         ``Probe("sensor", name)`` records one (docs/condition_monitoring.md).
+    drivetrain : Drivetrain or None
+        Shafts, bearings, couplings, rotor and generator around the gearbox
+        (docs/drivetrain.md); its ``gearbox`` must be this case's gearbox.
     """
 
     name: str
@@ -194,6 +198,7 @@ class Case:
     description: str = ""
     defects: tuple[ToothDefect, ...] = ()
     sensors: tuple[Sensor, ...] = ()
+    drivetrain: Drivetrain | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))
@@ -218,6 +223,12 @@ class Case:
             raise CaseError(f"scenes: scene names must be unique (got {names})")
         validate_defects(self.gearbox, self.defects, "defects")
         validate_sensors(self.sensors, {s.name: s for s in self.gearbox.stages})
+        if self.drivetrain is not None:
+            if not isinstance(self.drivetrain, Drivetrain):
+                raise CaseError(f"drivetrain must be a Drivetrain (got {self.drivetrain!r})")
+            self.drivetrain.validate("drivetrain")
+            if self.drivetrain.gearbox != self.gearbox:
+                raise CaseError("drivetrain.gearbox must be the case's gearbox")
         for scene in self.scenes:
             scene.validate(f"scenes.{scene.name}")
             validate_defects(self.gearbox, scene.defects, f"scenes.{scene.name}.defects")
@@ -458,7 +469,9 @@ def replace_parameter(case: Case, path: str, value: object) -> Case:
     stages = tuple(
         _replace_path(s, parts[1:], value) if s.name == parts[0] else s for s in case.gearbox.stages
     )
-    return dataclasses.replace(case, gearbox=dataclasses.replace(case.gearbox, stages=stages))
+    gearbox = dataclasses.replace(case.gearbox, stages=stages)
+    drivetrain = case.drivetrain and dataclasses.replace(case.drivetrain, gearbox=gearbox)
+    return dataclasses.replace(case, gearbox=gearbox, drivetrain=drivetrain)
 
 
 def _refuse_group(path: str, group: object) -> None:

@@ -1,0 +1,345 @@
+"""A drivetrain as one sparse model: flexible shafts around an assembled gearbox.
+
+The shafts, bearings, couplings, rotor and generator of a
+:class:`~pygear.model.drivetrain.Drivetrain` go through
+:class:`~pygear.assembly.structure.Structure` (Timoshenko shaft elements, discs,
+bearing and coupling springs; Friswell, Penny, Garvey & Lees, *Dynamics of Rotating
+Machines*, 2010, ch. 5).  The gearbox is assembled by :func:`~pygear.assembly.matrices
+.assemble` as usual, and its reduced matrices enter as one dense block.
+
+Ties by exact elimination
+    A gearbox member that sits on a shaft end (a :class:`GearboxMount`) shares that
+    node's DOFs: each structure DOF of the node that the gearbox model keeps is
+    replaced by the member's DOF (q_node = q_member, a rigid joint written as a
+    change of variables, not as a spring).  A stiff tie spring would add a tie mode
+    at a frequency set by an arbitrary stiffness and spoil the conditioning of the
+    shift-invert eigensolver; elimination adds neither, and it changes no frequency
+    that the joint does not change (the test compares with the same joint written
+    through a coupling of growing stiffness).  The node's DOFs that the gearbox model
+    drops (the out-of-plane ones of a planar stage) stay the structure's own.
+
+Numbering
+    The structure's own DOFs come first, then the gearbox's reduced DOFs as one
+    contiguous block at ``gearbox_offset``, in the gearbox model's order: a vector
+    ``v`` over the gearbox's reduced DOFs (a mesh's deflection row) is the global
+    vector with ``v`` placed at ``gearbox_offset``.
+
+DOF sets
+    ``spatial`` keeps all six DOFs of every shaft node and the gearbox's spatial DOFs.
+    ``torsional`` keeps theta_z of every shaft node and the gearbox's torsional DOFs.
+    For the shafts, discs, bearings and couplings this is exact (a straight
+    axisymmetric shaft, diagonal bearings and couplings on one axis couple no
+    torsion to bending or translation); the gear meshes do couple the members'
+    rotations to their translations, so with a gearbox the torsional set is the
+    gearbox's torsional model (bearings rigid in translation, Lin & Parker 1999).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import CaseError
+from ..model.case import Case, check_choice
+from ..model.drivetrain import Drivetrain, Shaft
+from ..model.scene_settings import scene_settings
+from .eigen import generalized_eigh
+from .matrices import Model, assemble
+from .shaft_elements import (
+    ElementMatrices,
+    bearing_element,
+    coupling_element,
+    disc_element,
+    shaft_element,
+)
+from .structure import NODE_DOFS, Structure, StructureMatrices
+
+if TYPE_CHECKING:
+    from ..model.case import Scene
+    from ..model.scene_settings import SceneSettings
+
+__all__ = [
+    "DRIVETRAIN_DOF_SETS",
+    "DrivetrainModel",
+    "assemble_drivetrain",
+    "build_structure",
+    "shaft_speed_ratios",
+]
+
+DRIVETRAIN_DOF_SETS = ("spatial", "torsional")
+"""DOF sets of a drivetrain model."""
+
+
+@dataclass
+class DrivetrainModel:
+    """An assembled drivetrain: sparse matrices over the structure's and the gearbox's DOFs.
+
+    Attributes
+    ----------
+    case_name : str
+        The case.
+    dof_set : str
+        ``spatial`` or ``torsional``.
+    labels : list of str
+        One label per DOF: ``<node>.<dof>`` for shaft nodes (``main_shaft_3.theta_z``),
+        the gearbox model's ``stage.member.dof`` for its block.
+    mass, stiffness, damping : scipy.sparse.csc_matrix
+        M, K and C [SI].
+    gyroscopic : scipy.sparse.csc_matrix
+        G per unit rotor speed [kg m^2]: each shaft element's own G times its shaft's
+        speed over the rotor's, so that ``Omega_rotor G`` is the drivetrain's term.
+    gearbox : Model
+        The gearbox's assembled model (its reduced DOFs are the block).
+    gearbox_offset : int
+        First global index of the gearbox block.
+    end_nodes : dict of str to str
+        The node name of every shaft end (``"main_shaft.end" -> "main_shaft_4"``).
+    tied : dict of str to str
+        Every eliminated structure DOF and the gearbox DOF it became.
+    speed_ratios : dict of str to float
+        Each shaft's speed over the rotor's [-].
+    """
+
+    case_name: str
+    dof_set: str
+    labels: list[str]
+    mass: sp.csc_matrix
+    stiffness: sp.csc_matrix
+    damping: sp.csc_matrix
+    gyroscopic: sp.csc_matrix
+    gearbox: Model
+    gearbox_offset: int
+    end_nodes: dict[str, str]
+    tied: dict[str, str] = field(default_factory=dict)
+    speed_ratios: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def size(self) -> int:
+        """Number of DOFs."""
+        return len(self.labels)
+
+    def index(self, label: str) -> int:
+        """Global index of a DOF label; an eliminated node DOF gives its gearbox DOF."""
+        label = self.tied.get(label, label)
+        try:
+            return self.labels.index(label)
+        except ValueError:
+            raise CaseError(f"{label!r} is not a DOF of this drivetrain model") from None
+
+    def end_label(self, end: str, dof: str = "theta_z") -> str:
+        """The global label of a shaft end's DOF (``"main_shaft.end"``)."""
+        label = f"{self.end_nodes[end]}.{dof}"
+        return self.tied.get(label, label)
+
+
+def assemble_drivetrain(
+    case: Case,
+    scene: Scene | SceneSettings | None = None,
+    *,
+    dof_set: str | None = None,
+    gearbox_model: Model | None = None,
+) -> DrivetrainModel:
+    """Assemble the case's drivetrain for a scene.
+
+    Parameters
+    ----------
+    case : Case
+        A case with a drivetrain.
+    scene : Scene or SceneSettings, optional
+        Its DOF set (``spatial`` or ``torsional``) and formulation apply.
+    dof_set : str, optional
+        Overrides the scene's DOF set; ``spatial`` when neither gives one.
+    gearbox_model : Model, optional
+        The gearbox block to use instead of assembling the case's gearbox (a model of
+        the same gearbox with the DOF set's DOFs: a test's rigid or scaled gearbox).
+    """
+    drivetrain = case.drivetrain
+    if drivetrain is None:
+        raise CaseError(f"case {case.name!r} has no drivetrain (Case.drivetrain)")
+    settings = scene_settings(scene)
+    dof_set = dof_set or (settings.dof_set if settings else None) or "spatial"
+    check_choice("dof_set", dof_set, DRIVETRAIN_DOF_SETS)
+    gearbox = gearbox_model or assemble(case, settings, dof_set=dof_set)
+    ratios = shaft_speed_ratios(case)
+    structure, end_nodes = build_structure(drivetrain, ratios)
+    matrices = structure.assemble()
+    if dof_set == "torsional":
+        matrices = matrices.torsional()
+    return _combine(case.name, dof_set, matrices, gearbox, drivetrain, end_nodes, ratios)
+
+
+def build_structure(
+    drivetrain: Drivetrain, speed_ratios: dict[str, float] | None = None
+) -> tuple[Structure, dict[str, str]]:
+    """The shafts, bearings, couplings, rotor and generator as a :class:`Structure`.
+
+    Returns the structure and the node name of every shaft end.  Each shaft element's
+    gyroscopic matrix is scaled by its shaft's speed ratio (1 when not given).
+    """
+    structure = Structure()
+    end_nodes: dict[str, str] = {}
+    node_of: dict[str, list[int]] = {}
+    for shaft in drivetrain.shafts:
+        ratio = (speed_ratios or {}).get(shaft.name, 1.0)
+        nodes = _add_shaft(structure, shaft, ratio)
+        node_of[shaft.name] = nodes
+        end_nodes[f"{shaft.name}.start"] = structure.node_names[nodes[0]]
+        end_nodes[f"{shaft.name}.end"] = structure.node_names[nodes[-1]]
+
+    def node_at(end: str) -> int:
+        return structure.node(end_nodes[end])
+
+    for bearing in drivetrain.bearings:
+        positions = drivetrain.shaft(bearing.shaft).node_positions()
+        k = int(np.argmin([abs(p - bearing.position) for p in positions]))
+        stiffness = [bearing.radial, bearing.radial, bearing.axial, bearing.tilt, bearing.tilt, 0]
+        damping = [bearing.radial_damping, bearing.radial_damping, bearing.axial_damping, 0, 0, 0]
+        structure.add_ground_element(node_of[bearing.shaft][k], bearing_element(stiffness, damping))
+    for coupling in drivetrain.couplings:
+        element = coupling_element(
+            coupling.torsional,
+            radial=coupling.radial,
+            axial=coupling.axial,
+            angular=coupling.angular,
+            torsional_damping=coupling.torsional_damping,
+        )
+        structure.add_element([node_at(coupling.a), node_at(coupling.b)], element)
+    for part in (drivetrain.rotor, drivetrain.generator):
+        disc = disc_element(part.mass, part.polar_inertia, part.diametral_inertia)
+        ratio = (speed_ratios or {}).get(part.at.split(".")[0], 1.0)
+        structure.add_element(node_at(part.at), _scaled_gyroscopic(disc, ratio))
+    return structure, end_nodes
+
+
+def _add_shaft(structure: Structure, shaft: Shaft, ratio: float) -> list[int]:
+    """Nodes ``<shaft>_0 .. <shaft>_n`` and the shaft's elements; with torsional
+    damping, a damper beta G J / L beside each element's twist."""
+    nodes = [structure.add_node(f"{shaft.name}_0")]
+    theta_z = (NODE_DOFS.index("theta_z"), 6 + NODE_DOFS.index("theta_z"))
+    for section in shaft.sections:
+        length = section.length / shaft.elements_per_section
+        element = shaft_element(
+            length,
+            section.outer_diameter,
+            section.inner_diameter,
+            youngs_modulus=shaft.young_modulus,
+            shear_modulus=shaft.shear_modulus,
+            density=shaft.density,
+            shear_deformation=shaft.shear_deformation,
+        )
+        element = _scaled_gyroscopic(element, ratio)
+        if shaft.torsional_damping > 0.0:
+            polar_moment = np.pi * (section.outer_diameter**4 - section.inner_diameter**4) / 32.0
+            twist = shaft.shear_modulus * polar_moment / length  # G J / L [N m/rad]
+            damping = np.zeros((12, 12))
+            damping[np.ix_(theta_z, theta_z)] = (
+                shaft.torsional_damping * twist * np.array([[1.0, -1.0], [-1.0, 1.0]])
+            )
+            element = ElementMatrices(element.mass, element.stiffness, damping, element.gyroscopic)
+        for _ in range(shaft.elements_per_section):
+            nodes.append(structure.add_node(f"{shaft.name}_{len(nodes)}"))
+            structure.add_element([nodes[-2], nodes[-1]], element)
+    return nodes
+
+
+def _scaled_gyroscopic(element: ElementMatrices, ratio: float) -> ElementMatrices:
+    if ratio == 1.0:
+        return element
+    return ElementMatrices(
+        element.mass, element.stiffness, element.damping, ratio * element.gyroscopic
+    )
+
+
+def shaft_speed_ratios(case: Case) -> dict[str, float]:
+    """Each shaft's speed over the rotor's, from the gearbox's rigid-body rotation.
+
+    A shaft turns with the gearbox member mounted on it, or with the shafts it is
+    coupled to; the member's speed is its theta_z in the gearbox's free rotation (the
+    null vector of its torsional stiffness).
+    """
+    drivetrain = case.drivetrain
+    gearbox = assemble(case, dof_set="torsional")
+    eigenvalues, vectors = generalized_eigh(gearbox.stiffness, gearbox.mass)
+    rigid = vectors[:, int(np.argmin(abs(eigenvalues)))]
+    speed = {
+        mount.at.split(".")[0]: rigid[gearbox.dof_labels.index(f"{mount.member}.theta_z")]
+        for mount in drivetrain.mounts
+    }
+    group = _coupled_groups(drivetrain)
+    by_group = {group[shaft]: value for shaft, value in speed.items()}
+    rotor_speed = by_group[group[drivetrain.rotor.at.split(".")[0]]]
+    return {s.name: float(by_group[group[s.name]] / rotor_speed) for s in drivetrain.shafts}
+
+
+def _coupled_groups(drivetrain: Drivetrain) -> dict[str, int]:
+    """A group number per shaft: shafts joined by couplings share one."""
+    group = {shaft.name: n for n, shaft in enumerate(drivetrain.shafts)}
+    changed = True
+    while changed:
+        changed = False
+        for coupling in drivetrain.couplings:
+            a, b = coupling.a.split(".")[0], coupling.b.split(".")[0]
+            low = min(group[a], group[b])
+            for name in (a, b):
+                if group[name] != low:
+                    group[name], changed = low, True
+    return group
+
+
+def _combine(
+    case_name: str,
+    dof_set: str,
+    matrices: StructureMatrices,
+    gearbox: Model,
+    drivetrain: Drivetrain,
+    end_nodes: dict[str, str],
+    ratios: dict[str, float],
+) -> DrivetrainModel:
+    """Structure and gearbox in one numbering, the mounted nodes' DOFs eliminated."""
+    gearbox_index = {label: i for i, label in enumerate(gearbox.dof_labels)}
+    tied: dict[str, str] = {}
+    for mount in drivetrain.mounts:
+        for dof in NODE_DOFS:
+            member_label = f"{mount.member}.{dof}"
+            if member_label in gearbox_index:
+                tied[f"{end_nodes[mount.at]}.{dof}"] = member_label
+    if not any(label in tied for label in matrices.labels):
+        raise CaseError("drivetrain.mounts: no gearbox member DOF is kept in this DOF set")
+    own = [label for label in matrices.labels if label not in tied]
+    offset = len(own)
+    position = {label: n for n, label in enumerate(own)}
+    target = np.array(
+        [
+            offset + gearbox_index[tied[label]] if label in tied else position[label]
+            for label in matrices.labels
+        ]
+    )
+    size = offset + gearbox.size
+    placement = sp.csc_matrix(
+        (np.ones(target.size), (np.arange(target.size), target)), shape=(target.size, size)
+    )
+
+    def combined(structure_part: sp.spmatrix, gearbox_part: np.ndarray | None) -> sp.csc_matrix:
+        total = placement.T @ structure_part @ placement
+        if gearbox_part is not None:
+            block = sp.block_diag((sp.csc_matrix((offset, offset)), sp.csc_matrix(gearbox_part)))
+            total = total + block
+        return sp.csc_matrix(total)
+
+    return DrivetrainModel(
+        case_name=case_name,
+        dof_set=dof_set,
+        labels=own + list(gearbox.dof_labels),
+        mass=combined(matrices.mass, gearbox.mass),
+        stiffness=combined(matrices.stiffness, gearbox.stiffness),
+        damping=combined(matrices.damping, gearbox.damping),
+        gyroscopic=combined(matrices.gyroscopic, None),
+        gearbox=gearbox,
+        gearbox_offset=offset,
+        end_nodes=end_nodes,
+        tied=tied,
+        speed_ratios=ratios,
+    )
