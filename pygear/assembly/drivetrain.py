@@ -98,7 +98,8 @@ class DrivetrainModel:
     end_nodes : dict of str to str
         The node name of every shaft end (``"main_shaft.end" -> "main_shaft_4"``).
     tied : dict of str to str
-        Every eliminated structure DOF and the gearbox DOF it became.
+        Every eliminated structure DOF and the gearbox member DOF it became (a full
+        gearbox label; a rigid link may have removed it from the reduced ones).
     speed_ratios : dict of str to float
         Each shaft's speed over the rotor's [-].
     """
@@ -124,6 +125,9 @@ class DrivetrainModel:
     def index(self, label: str) -> int:
         """Global index of a DOF label; an eliminated node DOF gives its gearbox DOF."""
         label = self.tied.get(label, label)
+        if label not in self.labels and label in self.gearbox.full_labels:
+            column = self.gearbox.reduction[self.gearbox.full_labels.index(label)]
+            label = self.gearbox.dof_labels[int(np.argmax(abs(column)))]  # its master
         try:
             return self.labels.index(label)
         except ValueError:
@@ -263,9 +267,9 @@ def shaft_speed_ratios(case: Case) -> dict[str, float]:
     drivetrain = case.drivetrain
     gearbox = assemble(case, dof_set="torsional")
     eigenvalues, vectors = generalized_eigh(gearbox.stiffness, gearbox.mass)
-    rigid = vectors[:, int(np.argmin(abs(eigenvalues)))]
+    rigid = gearbox.reduction @ vectors[:, int(np.argmin(abs(eigenvalues)))]
     speed = {
-        mount.at.split(".")[0]: rigid[gearbox.dof_labels.index(f"{mount.member}.theta_z")]
+        mount.at.split(".")[0]: rigid[gearbox.full_labels.index(f"{mount.member}.theta_z")]
         for mount in drivetrain.mounts
     }
     group = _coupled_groups(drivetrain)
@@ -298,29 +302,39 @@ def _combine(
     end_nodes: dict[str, str],
     ratios: dict[str, float],
 ) -> DrivetrainModel:
-    """Structure and gearbox in one numbering, the mounted nodes' DOFs eliminated."""
-    gearbox_index = {label: i for i, label in enumerate(gearbox.dof_labels)}
-    tied: dict[str, str] = {}
+    """Structure and gearbox in one numbering, the mounted nodes' DOFs eliminated.
+
+    A node DOF becomes its member's full DOF, written in the gearbox's reduced DOFs by
+    the member's row of the reduction T (a plain column, or a rigid link's ratio).
+    """
+    full_index = {label: i for i, label in enumerate(gearbox.full_labels)}
+    tied: dict[str, np.ndarray] = {}
+    names: dict[str, str] = {}
     for mount in drivetrain.mounts:
         for dof in NODE_DOFS:
-            member_label = f"{mount.member}.{dof}"
-            if member_label in gearbox_index:
-                tied[f"{end_nodes[mount.at]}.{dof}"] = member_label
+            row = gearbox.reduction[full_index[f"{mount.member}.{dof}"]]
+            if np.any(row):
+                node_label = f"{end_nodes[mount.at]}.{dof}"
+                tied[node_label] = row
+                names[node_label] = f"{mount.member}.{dof}"
     if not any(label in tied for label in matrices.labels):
         raise CaseError("drivetrain.mounts: no gearbox member DOF is kept in this DOF set")
     own = [label for label in matrices.labels if label not in tied]
     offset = len(own)
     position = {label: n for n, label in enumerate(own)}
-    target = np.array(
-        [
-            offset + gearbox_index[tied[label]] if label in tied else position[label]
-            for label in matrices.labels
-        ]
-    )
     size = offset + gearbox.size
-    placement = sp.csc_matrix(
-        (np.ones(target.size), (np.arange(target.size), target)), shape=(target.size, size)
-    )
+    rows, columns, values = [], [], []
+    for n, label in enumerate(matrices.labels):
+        if label in tied:
+            (nonzero,) = np.nonzero(tied[label])
+            rows.extend([n] * nonzero.size)
+            columns.extend(offset + nonzero)
+            values.extend(tied[label][nonzero])
+        else:
+            rows.append(n)
+            columns.append(position[label])
+            values.append(1.0)
+    placement = sp.csc_matrix((values, (rows, columns)), shape=(len(matrices.labels), size))
 
     def combined(structure_part: sp.spmatrix, gearbox_part: np.ndarray | None) -> sp.csc_matrix:
         total = placement.T @ structure_part @ placement
@@ -340,6 +354,6 @@ def _combine(
         gearbox=gearbox,
         gearbox_offset=offset,
         end_nodes=end_nodes,
-        tied=tied,
+        tied=names,
         speed_ratios=ratios,
     )

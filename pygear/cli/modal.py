@@ -47,6 +47,13 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     modal.add_argument(
         "--compare-stage", metavar="STAGE", help="also compare STAGE alone with it in the gearbox"
     )
+    modal.add_argument(
+        "--modes",
+        type=int,
+        default=20,
+        metavar="N",
+        help="a drivetrain case: the N lowest modes (sparse shift-invert; default 20)",
+    )
 
     matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
     _add_model_options(matrices)
@@ -122,6 +129,8 @@ def _modal(args: argparse.Namespace) -> int:
     from ..runs.json_output import json_text
 
     case = load_case(args.case)
+    if case.drivetrain is not None:
+        return _drivetrain_modal(case, args)
     started = time.perf_counter()
     model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
     modal = modal_results(model)
@@ -154,6 +163,43 @@ def _modal(args: argparse.Namespace) -> int:
         for a, b in zip(table["in_gearbox_hz"], table["independent_hz"]):
             change = f"{(a / b - 1) * 100:+.2f} %" if b > 0 else ""
             print(f"  {a:>10.1f} {b:>10.1f} {change}")
+    return 0
+
+
+def _drivetrain_modal(case, args: argparse.Namespace) -> int:
+    """A drivetrain case: its lowest ``--modes`` modes, spatial unless ``--dof-set``."""
+    from ..analysis.drivetrain_modal import drivetrain_modes
+    from ..assembly.drivetrain import assemble_drivetrain
+    from ..errors import CaseError
+    from ..runs.json_output import json_text
+
+    if args.modes < 1:
+        raise CaseError(f"--modes must be at least 1 (got {args.modes})")
+    if args.out or args.compare_stage:
+        raise CaseError("--out and --compare-stage are for gearbox cases, not a drivetrain")
+    started = time.perf_counter()
+    model = assemble_drivetrain(case, dof_set=args.dof_set)
+    modes = drivetrain_modes(model, args.modes)
+    elapsed = time.perf_counter() - started
+    if args.json:
+        summary = {
+            "case": case.name,
+            "dof_set": model.dof_set,
+            "dofs": model.size,
+            "frequencies_hz": [float(f) for f in modes.frequencies_hz],
+            "dominant_dof": modes.dominant,
+            "wall_s": elapsed,
+        }
+        print(json_text(summary))
+        return 0
+    _log.info("drivetrain assembly and eigensolution: %.1f ms", elapsed * 1e3)
+    print(
+        f"{case.name}: drivetrain, {model.dof_set} DOF set, {model.size} DOFs, "
+        f"{modes.frequencies_hz.size} lowest modes"
+    )
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  dominant DOF")
+    for m, (f, label) in enumerate(zip(modes.frequencies_hz, modes.dominant), start=1):
+        print(f"{m:>4}  {f:>14.3f}  {label}")
     return 0
 
 
