@@ -140,6 +140,15 @@ def test_without_cholmod_falls_back_to_splu_and_says_so(monkeypatch: pytest.Monk
     assert np.all(np.abs(result.frequencies_hz - exact) / exact < frequency_tolerance(n, exact))
 
 
+def test_splu_on_request() -> None:
+    n = 500
+    stiffness, mass = chain(n, fixed=True)
+    result = sparse_modes(stiffness, mass, modes=5, factorization="splu")
+    assert result.solver == "splu"
+    exact = fixed_free_hz(n, 5)
+    assert np.all(np.abs(result.frequencies_hz - exact) / exact < frequency_tolerance(n, exact))
+
+
 def test_small_models_are_solved_densely() -> None:
     stiffness, mass = chain(50, fixed=True)
     result = sparse_modes(stiffness, mass, modes=50)
@@ -158,5 +167,7 @@ def test_bad_requests_are_refused() -> None:
         sparse_modes(stiffness, mass, below_hz=-1.0)
     with pytest.raises(ValueError, match="shift_hz must be positive"):
         sparse_modes(stiffness, mass, modes=3, shift_hz=0.0)
+    with pytest.raises(ValueError, match="factorization must be"):
+        sparse_modes(stiffness, mass, modes=3, factorization="umfpack")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="mass must have the shape of stiffness"):
         sparse_modes(stiffness, sp.identity(299, format="csc"), modes=3)

@@ -24,6 +24,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 import scipy.linalg
@@ -112,11 +113,15 @@ def _default_shift_hz(stiffness: sp.csc_matrix, mass: sp.csc_matrix) -> float:
 
 
 def _shifted_inverse(
-    shifted: sp.csc_matrix,
+    shifted: sp.csc_matrix, factorization: str
 ) -> tuple[spla.LinearOperator, str, SparseCholesky | None]:
     """A LinearOperator applying (K - sigma M)^-1, the factorization's name, and the
     CHOLMOD factor to close (None with SuperLU)."""
     n = shifted.shape[0]
+    if factorization == "splu":
+        lu = spla.splu(shifted)
+        operator = spla.LinearOperator((n, n), matvec=lu.solve, matmat=lu.solve)
+        return operator, "splu", None
     if sparse_cholesky_available():
         factor = SparseCholesky(shifted, name="stiffness - shift * mass")
         operator = spla.LinearOperator((n, n), matvec=factor.solve, matmat=factor.solve)
@@ -140,6 +145,7 @@ def sparse_modes(
     modes: int | None = None,
     below_hz: float | None = None,
     shift_hz: float | None = None,
+    factorization: Literal["auto", "splu"] = "auto",
 ) -> SparseModes:
     """The lowest natural frequencies and mode shapes of K phi = omega^2 M phi.
 
@@ -158,6 +164,9 @@ def sparse_modes(
     shift_hz : float, optional
         Shift sigma = -(2 pi shift_hz)^2 [Hz], > 0.  Default: SHIFT_FRACTION of
         sqrt(median(K_ii / M_ii)) / 2 pi.
+    factorization : {"auto", "splu"}
+        How K - sigma M is factored: CHOLMOD when the kernel has it (else SuperLU), or
+        SuperLU (scipy.sparse.linalg.splu) in any case, for comparisons.
 
     Returns
     -------
@@ -169,8 +178,11 @@ def sparse_modes(
     ------
     ValueError
         Matrices that are not square or not of one size, neither ``modes`` nor
-        ``below_hz`` given, or a non-positive count, limit or shift.
+        ``below_hz`` given, a non-positive count, limit or shift, or an unknown
+        factorization.
     """
+    if factorization not in ("auto", "splu"):
+        raise ValueError(f"factorization must be 'auto' or 'splu', not {factorization!r}")
     k_matrix, m_matrix = _checked_pair(stiffness, mass)
     n = k_matrix.shape[0]
     if modes is None and below_hz is None:
@@ -193,7 +205,7 @@ def sparse_modes(
         solver = "dense"
     else:
         shifted = (k_matrix - sigma * m_matrix).tocsc()
-        operator, solver, factor = _shifted_inverse(shifted)
+        operator, solver, factor = _shifted_inverse(shifted, factorization)
         start = np.random.default_rng(0).standard_normal(n)  # reproducible Lanczos start
         try:
             while True:
