@@ -1,10 +1,9 @@
 """Modal analysis of a drivetrain model: its lowest modes by shift-invert Lanczos.
 
 A drivetrain model is sparse and larger than a gearbox's, so only the lowest ``modes``
-are computed: K x = lambda M x shifted to a small negative sigma (so that the rigid
-rotation, lambda = 0, stays inside and K - sigma M is positive definite) and solved
-with ARPACK's Lanczos iteration (Ericsson & Ruhe 1980, the spectral transformation;
-``scipy.sparse.linalg.eigsh``).
+are computed, by :func:`pygear.analysis.sparse_modal.sparse_modes`: shift-invert
+Lanczos (Ericsson & Ruhe 1980) with a negative shift, so that the free rotation is
+found and K - sigma M stays positive definite.
 """
 
 from __future__ import annotations
@@ -14,11 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly.drivetrain import DrivetrainModel
+from .sparse_modal import sparse_modes
 
 __all__ = ["DrivetrainModes", "drivetrain_modes", "modal_damping_ratios"]
-
-SHIFT = -1.0
-"""sigma [rad^2/s^2] of the shift-invert: below the rigid rotation's zero eigenvalue."""
 
 ZERO_FREQUENCY = 1e-3
 """Frequencies below this [Hz] are rigid-body motions, reported as 0 Hz."""
@@ -45,18 +42,10 @@ class DrivetrainModes:
 
 def drivetrain_modes(model: DrivetrainModel, modes: int = 20) -> DrivetrainModes:
     """The ``modes`` lowest modes of ``model`` (all of them when it has fewer DOFs)."""
-    import scipy.sparse.linalg as splinalg
-
-    modes = min(int(modes), model.size - 1)
-    eigenvalues, shapes = splinalg.eigsh(
-        model.stiffness, k=modes, M=model.mass, sigma=SHIFT, which="LM"
-    )
-    order = np.argsort(eigenvalues)
-    eigenvalues, shapes = eigenvalues[order], shapes[:, order]
-    frequencies = np.sqrt(np.clip(eigenvalues, 0.0, None)) / (2.0 * np.pi)
+    result = sparse_modes(model.stiffness, model.mass, modes=min(int(modes), model.size - 1))
+    frequencies = np.array(result.frequencies_hz, dtype=float)
     frequencies[frequencies < ZERO_FREQUENCY] = 0.0
-    modal_mass = np.einsum("im,im->m", shapes, model.mass @ shapes)
-    shapes = shapes / np.sqrt(modal_mass)
+    shapes = result.shapes
     energy = shapes * (model.mass @ shapes)
     dominant = [model.labels[i] for i in np.argmax(energy, axis=0)]
     return DrivetrainModes(frequencies, shapes, dominant)
