@@ -11,8 +11,10 @@
 !>
 !> Shaft element: Nelson (1980), "A finite rotating shaft element using Timoshenko beam
 !> theory", J. Mech. Des. 102, 793-803; Friswell, Penny, Garvey & Lees (2010),
-!> "Dynamics of Rotating Machines", Cambridge University Press, section 5.4 (matrices
-!> with the shear parameter Phi = 12 E I / (kappa G A L^2)).
+!> "Dynamics of Rotating Machines", Cambridge University Press, chapter 5 (matrices
+!> with the shear parameter Phi = 12 E I / (kappa G A L^2)); the shape functions solve
+!> the static Timoshenko equations (Davis, Henshell & Warburton 1972, "A Timoshenko beam
+!> element", J. Sound Vib. 22, 475-487).
 !> Shear coefficient of a hollow circle: Hutchinson (2001), "Shear coefficients for
 !> Timoshenko beam theory", J. Appl. Mech. 68, 87-92 (the hollow-circle expression).
 module shaft_elements
@@ -69,11 +71,11 @@ contains
 
   !> Timoshenko shaft element of a uniform hollow circular section, 2 nodes x 6 DOFs.
   !>
-  !> Per bending plane in (w1, psi1, w2, psi2) (Friswell et al. 2010, section 5.4.3):
+  !> Per bending plane in (w1, psi1, w2, psi2) (Friswell et al. 2010, chapter 5):
   !>   K = E I / ((1 + Phi) L^3) [12, 6L, -12, 6L; ., (4+Phi) L^2, -6L, (2-Phi) L^2; ...]
   !>   M_t = rho A L / (840 (1 + Phi)^2) [m1, m2 L, m3, m4 L; ...]
   !>   M_r = rho I / (30 L (1 + Phi)^2) [36, r2 L, -36, r2 L; ...]
-  !> the consistent masses of the interdependent interpolation (Nelson 1980, Eq. 11-13).
+  !> the consistent masses of the interdependent interpolation (Nelson 1980).
   !> The gyroscopic matrix per unit spin couples the rotations of the two planes through
   !> R = rho J int(N_psi^T N_psi) = 2 M_r (J = 2 I): G(xz, yz) = R, G(yz, xz) = -R in
   !> (w, psi) coordinates, which a rigid disc's G(theta_x, theta_y) = +I_p reproduces.

@@ -6,7 +6,7 @@ frequency equations (cos bL cosh bL = -1 clamped-free, = 1 free-free; Blevins 19
 Timoshenko frequency equation (Han, Benaroya & Wei 1999, "Dynamics of transversely
 vibrating beams using four engineering theories", J. Sound Vib. 225, eq. for the
 pinned-pinned beam), bar and shaft wave solutions, cantilever statics and a 2-DOF
-complex whirl model of an overhung disc (Friswell et al. 2010, section 3.5).
+complex whirl model of an overhung disc (Friswell et al. 2010, chapter 3).
 """
 
 from __future__ import annotations
@@ -280,7 +280,7 @@ def test_thick_shaft_matches_the_timoshenko_frequency_equation():
 def test_bending_frequency_error_falls_as_h_to_the_fourth():
     """Cubic Hermite elements with consistent mass: eigenvalue error O(h^(2(p+1-m))) =
     O(h^4) for p = 3, m = 2 (Strang & Fix 1973, "An Analysis of the Finite Element
-    Method", section 6.3), so the frequency error halves 16-fold per halving of h.  The
+    Method", chapter 6), so the frequency error halves 16-fold per halving of h.  The
     observed order from 4, 8 and 16 elements (mode 2, errors 1.2e-3, 8e-5, 5e-6, far
     above round-off) lies in [3.5, 4.5]."""
     length, outer = 2.0, 0.05
@@ -302,7 +302,7 @@ def test_thick_shaft_frequency_error_falls_as_h_squared():
     Phi_e = 12 E I / (kappa G A h^2), which grows as h^-2: N_w = linear + O(1/Phi_e) =
     linear + O(h^2), so on a fine mesh of a thick shaft the consistent mass is that of
     linear interpolation of w up to O(h^2), and the eigenvalue error of linear elements
-    is O(h^2) (Strang & Fix 1973, section 6.3, p = 1, m = 1).  Observed order from 10, 20
+    is O(h^2) (Strang & Fix 1973, chapter 6, p = 1, m = 1).  Observed order from 10, 20
     and 40 elements of the L/D = 4 shaft (Phi_e 19 .. 300): within [1.8, 2.2]."""
     length, outer, inner, kappa = 0.8, 0.2, 0.1, 0.8
     reference = timoshenko_simply_supported(2, length, outer, inner, kappa)

@@ -131,7 +131,7 @@ def shaft_element(
     """Timoshenko shaft element of a uniform hollow circular section, 2 nodes x 6 DOFs.
 
     Bending in the x-z and y-z planes with the shear parameter
-    Phi = 12 E I / (kappa G A L^2) (Friswell et al. 2010, section 5.4.3), consistent mass
+    Phi = 12 E I / (kappa G A L^2) (Friswell et al. 2010, chapter 5), consistent mass
     with rotary inertia, the gyroscopic matrix per unit spin (Nelson 1980), and linear
     axial and torsional bars.
 
