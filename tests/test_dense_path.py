@@ -114,20 +114,29 @@ def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, c
     )
 
 
-def test_automatic_choice_is_the_backward_stable_path_and_recorded(study_case, monkeypatch):
+def test_automatic_choice_is_a_backward_stable_path_and_recorded(study_case, monkeypatch):
     """Without a forced path the study run-up (18 DOFs, band half-width 13 of 17) runs on
-    the banded Cholesky path: the dense inverse is faster there but drifts over long runs
-    (tests/test_long_runs.py); the run's attributes say which path ran and why."""
+    a factorization, never the dense inverse (faster, but it drifts over long runs,
+    tests/test_long_runs.py): on CHOLMOD's sparse factor when the build has it (138
+    factor and 110 pattern entries against 252 band entries), else banded; refactoring
+    keeps the banded path.  The run's attributes say which path ran and why."""
+    from pygear.kernel.sparse_cholesky import sparse_cholesky_available
+
     monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
     run = run_transient(study_case, short_scene(study_case, "runup", 0.005))
-    assert run.attrs["linear_solver"] == "banded_cholesky"
+    expected = "sparse_cholesky" if sparse_cholesky_available() else "banded_cholesky"
+    assert run.attrs["linear_solver"] == expected
     reason = run.attrs["linear_solver_reason"]
     assert reason.startswith("automatic") and "18 DOFs" in reason
-    assert "dense inverse would be faster" in reason
     # the half-width itself (13 of 17 here) is counted from the assembled matrices'
     # non-zeros, and a product that is exactly 0 on one BLAS core is 1e-20 on another
     # (14 under Prescott): the reason must name it, not one core's count
     assert "band half-width" in reason
+    refactored = run_transient(
+        study_case, short_scene(study_case, "runup", 0.005, equivalent_load="refactor")
+    )
+    assert refactored.attrs["linear_solver"] == "banded_cholesky"
+    assert "refactor" in refactored.attrs["linear_solver_reason"]
 
 
 def test_automatic_choice_is_banded_for_a_long_narrow_band(monkeypatch):

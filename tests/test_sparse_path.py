@@ -27,7 +27,7 @@ from conftest import (
 from pygear import load_case
 from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_rebase import RigidRebase
-from pygear.kernel.newmark_storage import SPARSE_MIN_DOFS, kernel_storage
+from pygear.kernel.newmark_storage import SPARSE_OVERHEAD, kernel_storage
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 from pygear.kernel.sparse_cholesky import sparse_cholesky_available
 
@@ -127,8 +127,8 @@ def _chain(n: int, spring: float = 1.0e6, mass: float = 2.0, grounded: bool = Tr
 
 
 def test_sparse_chain_free_vibration_matches_its_modal_solution(monkeypatch):
-    """A fixed-free chain of 3000 masses (the automatic choice takes the sparse path),
-    started in its first mode: average acceleration keeps the mode's amplitude and
+    """A fixed-free chain of 3000 masses on the sparse path (forced: a plain chain reads
+    as much banded), started in its first mode: average acceleration keeps the mode's amplitude and
     stretches its period by the known factor, omega_h = (2/dt) atan(omega dt / 2)
     (Newmark's trapezoidal rule; Hughes, The Finite Element Method, 1987, sec. 9.3).
     The last mass's displacement follows A cos(omega_h t) to round-off of the solves."""
@@ -139,9 +139,10 @@ def test_sparse_chain_free_vibration_matches_its_modal_solution(monkeypatch):
     omega = 2.0 * math.sqrt(spring / mass) * math.sin(math.pi / (2 * (2 * n + 1)))
     shape = np.sin(j * math.pi / (2 * n + 1))  # the first fixed-free mode, exactly
     dt = 0.05 / omega
-    solver = BandedNewmark(mass_matrix, 0.0 * stiffness, stiffness, dt)
+    solver = BandedNewmark(
+        mass_matrix, 0.0 * stiffness, stiffness, dt, linear_solver="sparse_cholesky"
+    )
     assert solver.linear_solver == "sparse_cholesky"
-    assert solver.linear_solver_reason.startswith("automatic")
     weights = np.zeros(n)
     weights[-1] = 1.0
     steps = 400
@@ -157,20 +158,19 @@ def test_sparse_chain_free_vibration_matches_its_modal_solution(monkeypatch):
     assert np.abs(run.samples[0] - expected).max() <= tolerance * 1e-3 * shape[-1]
 
 
-def test_automatic_choice_by_size_and_band(monkeypatch):
-    """Dense input stays on the banded (or dense) path; sparse input goes to CHOLMOD
-    when large (SPARSE_MIN_DOFS) or when its RCM band would hold far more than its
-    pattern (a chain closed into a ring by long springs), and stays banded when small
-    and narrow."""
+def test_automatic_choice_by_the_entries_a_step_reads(monkeypatch):
+    """A spring chain reads the same count on both paths (band 2n, CHOLMOD factor and
+    pattern 2n - 1 each): banded, sparse input or dense.  A chain whose every 10th mass
+    is tied to mass 0 has a band as wide as the model after RCM but a factor of a few
+    entries per DOF: sparse, and the reason gives the counts.  A chain of 3000 masses
+    started on the sparse path is the test above."""
     monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
-    mass, stiffness = _chain(50)
-    assert kernel_storage(mass, 0 * mass, stiffness, None).linear_solver == "banded_cholesky"
-    dense = kernel_storage(mass.toarray(), np.zeros((50, 50)), stiffness.toarray(), None)
-    assert dense.linear_solver == "banded_cholesky"
-    mass, stiffness = _chain(SPARSE_MIN_DOFS)
-    assert kernel_storage(mass, 0 * mass, stiffness, None).linear_solver == "sparse_cholesky"
-    # a 400-DOF chain with every 10th mass tied to mass 0: a band as wide as the model
     mass, stiffness = _chain(400)
+    chain = kernel_storage(mass, 0 * mass, stiffness, None)
+    assert chain.linear_solver == "banded_cholesky"
+    assert "banded step reads less" in chain.reason
+    dense = kernel_storage(mass.toarray(), np.zeros((400, 400)), stiffness.toarray(), None)
+    assert dense.linear_solver == "banded_cholesky"
     ties = scipy.sparse.lil_matrix((400, 400))
     for k in range(10, 400, 10):
         ties[0, 0] += 1.0
@@ -178,7 +178,31 @@ def test_automatic_choice_by_size_and_band(monkeypatch):
         ties[0, k] = ties[k, 0] = -1.0
     storage = kernel_storage(mass, 0 * mass, stiffness + ties.tocsc(), None)
     assert storage.linear_solver == "sparse_cholesky"
-    assert "times the pattern" in storage.reason
+    assert "CHOLMOD factor" in storage.reason and "reads" in storage.reason
+    assert SPARSE_OVERHEAD > 1.0
+    # refactoring needs a banded factor whatever the counts
+    refactor = kernel_storage(mass, 0 * mass, stiffness + ties.tocsc(), None, refactor=True)
+    assert refactor.linear_solver == "banded_cholesky"
+
+
+def test_sparse_storage_holds_the_matrices_exactly(monkeypatch):
+    """The values on the common pattern are the matrices' own entries (no rounding:
+    each is copied or summed with zeros), for dense and for sparse input alike."""
+    rng = np.random.default_rng(7)
+    n = 60
+    dense = {}
+    for name in ("mass", "damping", "stiffness"):
+        a = rng.standard_normal((n, n)) * (rng.random((n, n)) < 0.05)
+        dense[name] = a + a.T + n * np.eye(n)
+    for inputs in (dense, {k: scipy.sparse.csc_matrix(v) for k, v in dense.items()}):
+        storage = kernel_storage(*inputs.values(), None, "sparse_cholesky")
+        start = storage.sparse["sparse_column_start"]
+        rows = storage.sparse["sparse_row_index"]
+        columns = np.repeat(np.arange(n), np.diff(start))
+        for name, matrix in dense.items():
+            rebuilt = np.zeros((n, n))
+            rebuilt[rows, columns] = storage.sparse[f"sparse_{name}"]
+            np.testing.assert_array_equal(np.tril(rebuilt), np.tril(matrix))
 
 
 def test_sparse_rigid_modes_of_a_free_chain():

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rigid_modes import rigid_body_mask
 from .matrices import Model
 
 __all__ = ["dof_row", "rigid_rotation"]
@@ -31,12 +32,13 @@ def rigid_rotation(model: Model) -> np.ndarray | None:
     """The model's free rigid-body rotation as reduced DOF amplitudes, or None.
 
     The eigenvector of the lowest eigenvalue of (K0, M) when exactly one eigenvalue
-    is zero (to 1e-8 of the largest); its sign is arbitrary, so callers use ratios.
+    is zero (:func:`pygear.rigid_modes.rigid_body_mask`); its sign is arbitrary, so
+    callers use ratios.
     """
     from .eigen import generalized_eigh
 
     values, vectors = generalized_eigh(model.stiffness, model.mass)
-    zero = np.abs(values) <= 1e-8 * np.abs(values).max()
+    zero = rigid_body_mask(values)
     if zero.sum() != 1:
         return None
     return vectors[:, int(np.argmax(zero))]

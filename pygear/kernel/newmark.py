@@ -223,10 +223,11 @@ class BandedNewmark:
     labels : sequence of str, optional
         DOF names for messages.
     linear_solver : str
-        ``auto`` (by size and band width), ``dense_inverse`` or ``banded_cholesky``:
-        how the kernel solves Khat a = rhs (:func:`~pygear.kernel.newmark_support.
-        choose_linear_solver`); the environment variable ``PYGEAR_LINEAR_SOLVER``
+        ``auto`` (by the entries a step reads, :mod:`~pygear.kernel.newmark_storage`),
+        ``dense_inverse``, ``banded_cholesky`` or ``sparse_cholesky`` (CHOLMOD): how the
+        kernel solves Khat a = rhs; the environment variable ``PYGEAR_LINEAR_SOLVER``
         overrides it.  ``linear_solver`` and ``linear_solver_reason`` hold the choice.
+        M, C and K0 may be SciPy sparse matrices (flexible drivetrains).
     """
 
     def __init__(
@@ -275,6 +276,7 @@ class BandedNewmark:
             stiffness,
             self.meshes.deflection if self.meshes is not None else None,
             linear_solver,
+            refactor=self.equivalent_load == "refactor",
         )
         self.order = storage.order
         self.position = np.empty(n, dtype=int)
@@ -317,6 +319,10 @@ class BandedNewmark:
                 LINEAR_SOLVER_CODES[self.linear_solver],
             ],
             dtype=np.int32,
+        )
+        self.input_weights, self.output_weights = (
+            np.zeros(n) if w is None else np.asarray(w, dtype=np.float64)
+            for w in (input_weights, output_weights)
         )
         self.arguments = {
             **self._mesh_arguments(),

@@ -18,6 +18,8 @@ import math
 
 import numpy as np
 
+from ..rigid_modes import rigid_body_mask
+
 __all__ = ["RigidRebase"]
 
 REBASE_ANGLE = 16.0
@@ -73,8 +75,7 @@ class RigidRebase:
                 values, vectors = scipy.linalg.eigh(stiffness, mass)
             except (np.linalg.LinAlgError, ValueError):
                 return  # M not positive definite: no rebasing
-            scale = max(float(np.abs(values).max()), 1e-300)
-            rigid = vectors[:, np.abs(values) <= 1e-8 * scale]
+            rigid = vectors[:, rigid_body_mask(values)]
             self.mass = mass[np.ix_(order, order)]
         self.modes = rigid[order]  # kernel order
         self.cycles_per_unit = None
@@ -153,10 +154,8 @@ def _sparse_rigid_modes(mass, stiffness) -> np.ndarray | None:
 
     Shift-invert Lanczos (SciPy ``eigsh``) for the :data:`RIGID_MODES_SOUGHT` lowest
     modes of (K0, M), shifted below zero so that K0 - sigma M is positive definite; a
-    mode is rigid when its eigenvalue is below 1e-10 of the largest diagonal ratio
-    K_ii / M_ii (a lower bound of the largest eigenvalue) and 1e-4 of every elastic
-    eigenvalue found (a drivetrain's stiff shafts put that ratio near 1e12 (rad/s)^2,
-    so the scale alone would take a 2 Hz torsional mode for rigid).
+    mode is rigid by :func:`pygear.rigid_modes.rigid_body_mask` with the largest
+    diagonal ratio K_ii / M_ii as the scale (a lower bound of the largest eigenvalue).
     """
     import scipy.sparse
     import scipy.sparse.linalg
@@ -176,12 +175,7 @@ def _sparse_rigid_modes(mass, stiffness) -> np.ndarray | None:
         )
     except (RuntimeError, ValueError, scipy.sparse.linalg.ArpackError):
         return None
-    # a zero eigenvalue comes out at about eps K_ii / M_ii: 1e-10 of the scale leaves a
-    # margin of 5e5 over that, and a rigid mode must also lie 1e4 below every elastic one
-    zero = np.abs(values) <= 1e-10 * scale
-    if np.any(~zero):
-        zero &= np.abs(values) <= 1e-4 * np.abs(values[~zero]).min()
-    rigid = vectors[:, zero]
+    rigid = vectors[:, rigid_body_mask(values, scale)]
     # eigsh's vectors are M-orthonormal; orthonormalise again against rounding
     if rigid.shape[1] > 1:
         gram = rigid.T @ (mass @ rigid)

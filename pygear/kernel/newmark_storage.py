@@ -1,21 +1,24 @@
 """How the Newmark kernel holds M, C and K0: bands in RCM order, or one sparse pattern.
 
-Gear-stage models (tens to a few hundred DOFs, dense NumPy matrices) go to the kernel as
-LAPACK band matrices in reverse Cuthill-McKee order, solved by the banded Cholesky
-factor or, on request, by a dense inverse (:func:`~pygear.kernel.newmark_support.
-choose_linear_solver`).  Flexible drivetrains (SciPy sparse matrices, up to tens of
-thousands of DOFs) go as one lower-triangle pattern in compressed sparse columns shared
-by the three matrices, and the kernel factors Khat and M with CHOLMOD, which orders the
-DOFs itself (approximate minimum degree or nested dissection): the DOF order here stays
-the caller's (``fortran/newmark_sparse.f90``).
+Either storage carries any model.  On the banded paths the DOFs are renumbered by
+reverse Cuthill-McKee (on the pattern of M + C + K0 and the meshes' couplings) and the
+matrices go to the kernel as LAPACK band matrices, solved by the banded Cholesky factor
+or, on request, by a dense inverse (:func:`~pygear.kernel.newmark_support.
+choose_linear_solver`).  On the sparse path the three matrices share one lower-triangle
+pattern in compressed sparse columns, the kernel factors Khat and M with CHOLMOD, which
+orders the DOFs itself (approximate minimum degree or nested dissection), and the DOF
+order stays the caller's (``fortran/newmark_sparse.f90``).
 
-The automatic choice for sparse input compares what one solve costs: a banded
-triangular solve reads n (kd + 1) entries of the factor for the RCM half-width kd, a
-CHOLMOD solve about the entries of its factor, at least the pattern's.  The sparse
-path is taken when the band would hold :data:`SPARSE_BAND_RATIO` times the pattern's
-entries or more, or when the model has :data:`SPARSE_MIN_DOFS` DOFs or more (the
-banded path's n (kd + 1)^2 factorization and 4 n (kd + 1) doubles of storage then
-dominate); ``benchmarks/bench_sparse_path.py`` measures where the two cross.
+The automatic choice predicts what a step reads: the banded path two triangular solves
+over the band, n (kd + 1) entries, and the products with C and K0 over the same band;
+the sparse path the solves over CHOLMOD's factor, nnz(L) entries (from CHOLMOD's own
+analysis of the pattern), and the products over the pattern, nnz(P).  The sparse path
+runs when :data:`SPARSE_OVERHEAD` (nnz(L) + nnz(P)) <= 2 n (kd + 1): its indexed
+loads cost about a quarter more per entry than the band's (a spring chain, for which
+both read the same count, runs 3 to 16 % slower sparse; ``benchmarks/bench_sparse_path.py``).
+Equivalent-load mode ``refactor`` and a build without CHOLMOD keep the banded path.
+Dense input is turned into the pattern with NumPy alone, so gear-stage models do not
+load SciPy's sparse package.
 """
 
 from __future__ import annotations
@@ -25,24 +28,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _kernel
 from .band_ordering import band_half_width, reverse_cuthill_mckee
 from .newmark_support import LINEAR_SOLVER_CODES, LINEAR_SOLVER_VARIABLE, choose_linear_solver
 
-__all__ = [
-    "SPARSE_BAND_RATIO",
-    "SPARSE_MIN_DOFS",
-    "KernelStorage",
-    "is_sparse_matrix",
-    "kernel_storage",
-]
+__all__ = ["SPARSE_OVERHEAD", "KernelStorage", "is_sparse_matrix", "kernel_storage"]
 
 SPARSE_SOLVER = "sparse_cholesky"
 
-SPARSE_MIN_DOFS = 2000
-"""Sparse models of this many DOFs or more go to CHOLMOD whatever their band [DOFs]."""
-
-SPARSE_BAND_RATIO = 4.0
-"""Band entries n (kd + 1) per stored lower-triangle entry from which CHOLMOD is chosen [-]."""
+SPARSE_OVERHEAD = 1.25
+"""Cost of an entry the sparse path reads relative to a band entry [-] (measured: a
+spring chain, equal counts, 1.03 to 1.16 times slower sparse)."""
 
 
 @dataclass
@@ -85,6 +81,8 @@ def kernel_storage(
     stiffness: object,
     deflection: np.ndarray | None,
     requested: str = "auto",
+    *,
+    refactor: bool = False,
 ) -> KernelStorage:
     """Order and store M, C, K0 (dense arrays or SciPy sparse matrices) for the kernel.
 
@@ -98,47 +96,44 @@ def kernel_storage(
         ``auto``, ``banded_cholesky``, ``dense_inverse`` or ``sparse_cholesky``; the
         environment variable :data:`~pygear.kernel.newmark_support.LINEAR_SOLVER_VARIABLE`
         overrides it.
+    refactor : bool
+        The run refactors Khat (equivalent-load mode ``refactor``): banded paths only.
     """
     forced = os.environ.get(LINEAR_SOLVER_VARIABLE, "").strip()
     choice = forced or requested
-    sparse_input = any(is_sparse_matrix(x) for x in (mass, damping, stiffness))
-    n = int(mass.shape[0])
-    if choice == SPARSE_SOLVER or (sparse_input and choice == "auto"):
-        import scipy.sparse
-
-        matrices = [
-            scipy.sparse.csc_matrix(x, dtype=np.float64) for x in (mass, damping, stiffness)
-        ]
-        pattern = _pattern(matrices)
-        if choice == SPARSE_SOLVER:
-            source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else "linear_solver"
-            reason = f"forced by {source} ({n} DOFs, {pattern.nnz} stored entries)"
-            return _sparse_storage(matrices, pattern, reason)
-        import scipy.sparse.csgraph
-
-        symmetric = (pattern + pattern.T).tocsr()
-        order = np.asarray(scipy.sparse.csgraph.reverse_cuthill_mckee(symmetric, True))
-        permuted = symmetric[order][:, order].tocoo()
-        kd = int(np.abs(permuted.row - permuted.col).max(initial=0))
-        band_entries = n * (kd + 1)
-        shape = f"{n} DOFs, RCM band half-width {kd}, {pattern.nnz} stored entries"
-        if n >= SPARSE_MIN_DOFS or band_entries >= SPARSE_BAND_RATIO * pattern.nnz:
-            reason = (
-                f"automatic: {shape}; the band would hold {band_entries / pattern.nnz:.1f} "
-                "times the pattern's entries, so CHOLMOD factors the pattern"
-            )
-            return _sparse_storage(matrices, pattern, reason)
-        mass, damping, stiffness = (x.toarray() for x in matrices)
-    elif choice not in (*LINEAR_SOLVER_CODES, "auto"):
+    if choice not in (*LINEAR_SOLVER_CODES, "auto"):
         where = f"environment variable {LINEAR_SOLVER_VARIABLE}" if forced else "linear_solver"
         raise ValueError(
             f"{where} must be one of {', '.join((*LINEAR_SOLVER_CODES, 'auto'))} (got {choice!r})"
         )
-    elif sparse_input:  # a banded path asked for by name
-        mass, damping, stiffness = (
-            x.toarray() if is_sparse_matrix(x) else x for x in (mass, damping, stiffness)
-        )
-    return _band_storage(mass, damping, stiffness, deflection, requested)
+    n = int(mass.shape[0])
+    lower = _lower_pattern(mass, damping, stiffness)
+    if choice == SPARSE_SOLVER:
+        source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else "linear_solver"
+        reason = f"forced by {source} ({n} DOFs, {lower[1].size} stored entries)"
+        return _sparse_storage(mass, damping, stiffness, lower, reason)
+    if choice == "auto" and not refactor:
+        order, kd = _band_order(n, lower, deflection)
+        factor_entries = _factor_entries(n, *lower)
+        if factor_entries is not None:
+            band = n * (kd + 1)
+            sparse = SPARSE_OVERHEAD * (factor_entries + lower[1].size)
+            shape = (
+                f"{n} DOFs, band half-width {kd} ({band} band entries), "
+                f"CHOLMOD factor {factor_entries} and pattern {lower[1].size} entries"
+            )
+            if sparse <= 2 * band:
+                reason = (
+                    f"automatic: {shape}; a sparse step reads {2 * band / sparse:.2f} times less"
+                )
+                return _sparse_storage(mass, damping, stiffness, lower, reason)
+    dense = [x.toarray() if is_sparse_matrix(x) else x for x in (mass, damping, stiffness)]
+    storage = _band_storage(*dense, deflection, requested)
+    if choice == "auto" and not refactor and factor_entries is not None:
+        storage.reason += f"; the banded step reads less than the sparse one ({shape})"
+    elif choice == "auto" and refactor:
+        storage.reason += "; equivalent_load 'refactor' needs a banded path"
+    return storage
 
 
 def _band_storage(mass, damping, stiffness, deflection, requested: str) -> KernelStorage:
@@ -170,35 +165,91 @@ def _band_storage(mass, damping, stiffness, deflection, requested: str) -> Kerne
     return KernelStorage(solver, reason, order, kd, bands, inert)
 
 
-def _pattern(matrices: list) -> object:
-    """The lower triangle (diagonal included) of the union of the matrices' patterns."""
-    import scipy.sparse
+def _lower_pattern(mass, damping, stiffness) -> tuple[np.ndarray, np.ndarray]:
+    """0-based CSC column pointers and rows of the lower triangle (diagonal included) of
+    the union of the three matrices' patterns and its transpose."""
+    n = int(mass.shape[0])
+    rows, columns = [np.arange(n)], [np.arange(n)]
+    for matrix in (mass, damping, stiffness):
+        if is_sparse_matrix(matrix):
+            coo = matrix.tocoo()
+            keep = coo.data != 0
+            i, j = coo.row[keep], coo.col[keep]
+        else:
+            i, j = np.nonzero(np.asarray(matrix))
+        rows += [np.maximum(i, j)]
+        columns += [np.minimum(i, j)]
+    keys = np.unique(np.concatenate(columns).astype(np.int64) * n + np.concatenate(rows))
+    column, row = np.divmod(keys, n)
+    column_start = np.zeros(n + 1, dtype=np.int32)
+    np.cumsum(np.bincount(column, minlength=n), out=column_start[1:])
+    return column_start, row.astype(np.int32)
 
-    n = matrices[0].shape[0]
-    union = abs(matrices[0]) + abs(matrices[1]) + abs(matrices[2])
-    union = union + abs(union.T) + scipy.sparse.identity(n, format="csc")
-    lower = scipy.sparse.tril(union, format="csc")
-    lower.sort_indices()
-    return lower
+
+def _band_order(n: int, lower, deflection) -> tuple[np.ndarray, int]:
+    """RCM order and band half-width of the pattern and the meshes' couplings."""
+    column_start, row = lower
+    column = np.repeat(np.arange(n), np.diff(column_start))
+    if n > 4000:  # NumPy's RCM works on a dense boolean pattern: SciPy's for large models
+        import scipy.sparse
+        import scipy.sparse.csgraph
+
+        pattern = scipy.sparse.csr_matrix((np.ones(row.size), (row, column)), shape=(n, n))
+        order = np.asarray(scipy.sparse.csgraph.reverse_cuthill_mckee(pattern + pattern.T, True))
+        position = np.empty(n, dtype=np.int64)
+        position[order] = np.arange(n)
+        return order, int(np.abs(position[row] - position[column]).max(initial=0))
+    pattern = np.zeros((n, n), dtype=bool)
+    pattern[row, column] = True
+    pattern |= pattern.T
+    if deflection is not None:
+        nz = np.abs(deflection) > 0
+        pattern |= (nz.T.astype(int) @ nz.astype(int)) > 0
+    order = reverse_cuthill_mckee(pattern)
+    return order, band_half_width(pattern, order)
 
 
-def _sparse_storage(matrices: list, pattern, reason: str) -> KernelStorage:
+def _factor_entries(n: int, column_start: np.ndarray, row: np.ndarray) -> int | None:
+    """Entries of CHOLMOD's factor of a matrix with this pattern (its own ordering), from
+    a diagonally dominant matrix on the pattern; None without CHOLMOD."""
+    flag = getattr(_kernel, "sparse_cholesky_available_flag", None)
+    if flag is None or int(flag()) != 1:
+        return None
+    column = np.repeat(np.arange(n), np.diff(column_start))
+    off = row != column
+    degree = np.bincount(row[off], minlength=n) + np.bincount(column[off], minlength=n)
+    values = np.where(off, -1.0, degree[column] + 1.0)
+    handle, _, ierr = _kernel.sparse_cholesky_create(column_start, row, values, 0, 0)
+    if ierr:
+        return None
+    try:
+        entries, _, _, _, ierr = _kernel.sparse_cholesky_stats(handle)
+    finally:
+        _kernel.sparse_cholesky_free(handle)
+    return int(entries) if not ierr else None
+
+
+def _sparse_storage(mass, damping, stiffness, lower, reason: str) -> KernelStorage:
     """The three matrices' lower triangles on the common pattern, for CHOLMOD."""
-    import scipy.sparse
-
-    n = pattern.shape[0]
-    columns = np.repeat(np.arange(n, dtype=np.int64), np.diff(pattern.indptr))
-    keys = columns * n + pattern.indices
+    column_start, row = lower
+    n = column_start.size - 1
+    keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(column_start)) * n + row
     values = {}
-    for name, matrix in zip(("mass", "damping", "stiffness"), matrices):
-        lower = scipy.sparse.tril(matrix, format="coo")
-        on_pattern = np.zeros(pattern.nnz)
-        where = np.searchsorted(keys, lower.col.astype(np.int64) * n + lower.row)
-        np.add.at(on_pattern, where, lower.data)
+    for name, matrix in zip(("mass", "damping", "stiffness"), (mass, damping, stiffness)):
+        if is_sparse_matrix(matrix):
+            coo = matrix.tocoo()
+            i, j, data = coo.row, coo.col, coo.data
+        else:
+            i, j = np.nonzero(np.asarray(matrix))
+            data = np.asarray(matrix)[i, j]
+        keep = i >= j
+        on_pattern = np.zeros(row.size)
+        where = np.searchsorted(keys, j[keep].astype(np.int64) * n + i[keep])
+        np.add.at(on_pattern, where, data[keep])
         values[name] = on_pattern
     sparse = {
-        "sparse_column_start": np.asarray(pattern.indptr, dtype=np.int32),
-        "sparse_row_index": np.asarray(pattern.indices, dtype=np.int32),
+        "sparse_column_start": column_start,
+        "sparse_row_index": row,
         "sparse_mass": values["mass"],
         "sparse_damping": values["damping"],
         "sparse_stiffness": values["stiffness"],
