@@ -19,6 +19,7 @@ from pygear import CaseError, Scene, load_case
 from pygear.analysis.modal import modal_analysis
 from pygear.analysis.transient import run_transient
 from pygear.assembly import assemble
+from pygear.assembly.drivetrain_model import scene_model
 from pygear.cli import batch as batch_cli
 from pygear.model.case import replace_parameter
 from pygear.runs import batch, sweep
@@ -288,7 +289,7 @@ def test_batch_runs_every_case(tmp_path, scheduler):
             assert row.status == "ok", row.error
             case = load_case(CASES / case_name)
             scene = case.scene(scene_name)
-            modal = modal_analysis(assemble(case.for_scene(scene), scene))
+            modal = modal_analysis(scene_model(case.for_scene(scene), scene))
             lowest = modal.frequency.values[modal.frequency.values > 0].min()
             assert row.lowest_hz == pytest.approx(lowest, rel=1e-10)
             assert (tmp_path / case_name / f"{scene_name}.nc").is_file()

@@ -29,11 +29,14 @@ from pygear import (
     Gearbox,
     GearboxMount,
     Generator,
+    Probe,
     Rotor,
     Scene,
     Shaft,
     ShaftBearing,
     ShaftSection,
+    TorqueLaw,
+    Transient,
 )
 
 # The gearbox case: stages, bearing tables, material, rotor and generator values.
@@ -207,6 +210,84 @@ drivetrain = Drivetrain(
     ),
 )
 
+# ----------------------------------------------------------------------------------
+# Transients of the whole drivetrain (rotor and generator are the drivetrain's bodies)
+# ----------------------------------------------------------------------------------
+
+# What every transient records: the speeds along the train, one mesh of each stage, and
+# the torques at both ends.
+PROBES = (
+    Probe("speed", "rotor"),
+    Probe("speed", "stage1.carrier"),
+    Probe("speed", "stage2.carrier"),
+    Probe("speed", "parallel.input_gear"),
+    Probe("speed", "generator"),
+    Probe("mesh_force", "stage1.sun-planet1"),
+    Probe("mesh_force", "stage1.ring-planet1"),
+    Probe("mesh_force", "stage2.sun-planet1"),
+    Probe("mesh_force", "stage2.ring-planet1"),
+    Probe("mesh_force", "parallel.input-output"),
+    Probe("drive_torque"),
+    Probe("load_torque"),
+)
+
+# The run-up of the gearbox case, from rest, on the whole drivetrain: the rotor's rated
+# torque against the paper's generator law (eq. 31) once the rotor passes 0.6 rpm.
+RUNUP = Transient(
+    duration=2.0,  # s
+    time_step=5e-5,  # s: as the gearbox case (10 steps per period of its highest mode)
+    sample_rate=2e4,  # Hz
+    integrator="newmark",
+    equivalent_load="predictor",
+    input="rotor.theta_z",
+    output="generator.theta_z",
+    drive=TorqueLaw.constant(G.RUNUP_DRIVE_TORQUE),
+    load=TorqueLaw.generator(rated_drive_torque=G.RUNUP_DRIVE_TORQUE, exponent=G.LOAD_EXPONENT),
+    speed_reference_rpm=G.RUNUP_SPEED_RPM,
+    probes=PROBES,
+    mean_window=0.5,  # s
+)
+
+# Emergency stop at rated operation: the turbine runs at rated speed and torque; at
+# STOP_TIME the grid is lost (the generator torque drops to zero within one step) and
+# the high-speed-shaft brake closes over its deployment time, while the blades pitch
+# the aerodynamic torque away.  The step of the generator torque excites the
+# drivetrain's torsional mode (about 2 Hz), whose swing the gearbox's meshes carry.
+RATED_GENERATOR_TORQUE = 43_093.55  # N m on the high-speed shaft [Jonkman] Table 1-1
+STOP_TIME = 0.5  # s: ASSUMED, rated operation settles the record first
+# ASSUMED: NREL's 5 MW ServoDyn brake of the OpenFAST regression decks (HSSBrTqF,
+# HSSBrDT): 28 116.2 N m fully deployed after 0.6 s.
+BRAKE_TORQUE = 28_116.2  # N m on the high-speed shaft
+BRAKE_DEPLOYMENT = 0.6  # s
+# ASSUMED: the blades pitch to feather at 8 deg/s (Jonkman's pitch-rate limit), taking
+# the aerodynamic torque linearly to zero in about 11 s; only its start matters here.
+# The generator torque's step excites the drivetrain's torsional mode; its swing is
+# larger than the mean torque, so the meshes unload and reverse (coast flanks).
+FEATHER_TIME = 11.0  # s
+EMERGENCY_STOP = Transient(
+    duration=3.0,  # s: the step and about five periods of the torsional mode
+    time_step=5e-5,  # s
+    sample_rate=2e4,  # Hz
+    integrator="newmark",
+    # the torque reverses in the meshes: the teeth part and meet on the coast flanks,
+    # a contact state that the iteration settles within each step
+    equivalent_load="iterate",
+    input="rotor.theta_z",
+    output="generator.theta_z",
+    initial_speed_rpm=G.RATED_ROTOR_SPEED_RPM,
+    start_loaded=True,  # twisted by the rated torques: no swing before the stop
+    drive=TorqueLaw.table(
+        (0.0, STOP_TIME, STOP_TIME + FEATHER_TIME),
+        (G.RATED_ROTOR_TORQUE, G.RATED_ROTOR_TORQUE, 0.0),
+    ),
+    load=TorqueLaw.table(
+        (0.0, STOP_TIME, STOP_TIME + 5e-5, STOP_TIME + BRAKE_DEPLOYMENT),
+        (RATED_GENERATOR_TORQUE, RATED_GENERATOR_TORQUE, 0.0, BRAKE_TORQUE),
+    ),
+    probes=PROBES,
+    mean_window=0.4,  # s: the speeds at the end of the record
+)
+
 case = Case(
     name="nrel5mw_drivetrain",
     description=(
@@ -220,5 +301,19 @@ case = Case(
     scenes=(
         Scene("modal_torsional", analyses=("modal",), dof_set="torsional"),
         Scene("modal", analyses=("modal",), dof_set="spatial"),
+        Scene(
+            "runup",
+            analyses=("transient",),
+            effects=("time_varying_mesh_stiffness",),
+            dof_set="torsional",
+            transient=RUNUP,
+        ),
+        Scene(
+            "emergency_stop",
+            analyses=("transient",),
+            effects=("time_varying_mesh_stiffness", "tooth_separation"),
+            dof_set="torsional",
+            transient=EMERGENCY_STOP,
+        ),
     ),
 )

@@ -96,6 +96,21 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
         "Accelerometers on the ring or housing of a planetary stage.",
         ("model.sensors.Sensor", "model.sensors.StructuralMode"),
     ),
+    (
+        "Drivetrain",
+        "Flexible shafts, their bearings and couplings, the rotor and the generator around "
+        "the gearbox (``Case.drivetrain``).",
+        (
+            "model.drivetrain.Drivetrain",
+            "model.drivetrain.Shaft",
+            "model.drivetrain.ShaftSection",
+            "model.drivetrain.ShaftBearing",
+            "model.drivetrain.Coupling",
+            "model.drivetrain.Rotor",
+            "model.drivetrain.Generator",
+            "model.drivetrain.GearboxMount",
+        ),
+    ),
 )
 """Sections of the page and the dataclasses (below ``pygear.``) each documents."""
 

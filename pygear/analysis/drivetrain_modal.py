@@ -40,9 +40,14 @@ class DrivetrainModes:
     dominant: list[str]
 
 
-def drivetrain_modes(model: DrivetrainModel, modes: int = 20) -> DrivetrainModes:
-    """The ``modes`` lowest modes of ``model`` (all of them when it has fewer DOFs)."""
-    result = sparse_modes(model.stiffness, model.mass, modes=min(int(modes), model.size - 1))
+def drivetrain_modes(
+    model: DrivetrainModel, modes: int = 20, *, below_hz: float | None = None
+) -> DrivetrainModes:
+    """The ``modes`` lowest modes of ``model`` (all of them when it has fewer DOFs), or,
+    with ``below_hz``, exactly the modes below that frequency [Hz]."""
+    result = sparse_modes(
+        model.stiffness, model.mass, modes=min(int(modes), model.size - 1), below_hz=below_hz
+    )
     frequencies = np.array(result.frequencies_hz, dtype=float)
     frequencies[frequencies < ZERO_FREQUENCY] = 0.0
     shapes = result.shapes

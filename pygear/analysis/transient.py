@@ -28,7 +28,6 @@ from ..errors import CaseError
 from ..kernel.newmark import (
     BandedNewmark,
     KernelProbe,
-    LawArrays,
     MeshTerms,
     RunResult,
     TransientError,
@@ -36,7 +35,8 @@ from ..kernel.newmark import (
 from ..kernel.probes import RPM_PER_RAD_S, state_probes
 from ..model.case import Case, Scene, defects_json
 from ..model.components import PlanetaryStage
-from ..model.transient_settings import TorqueLaw, Transient
+from ..model.transient_settings import Transient
+from ..rigid_modes import rigid_body_mask
 from .run_layout import grouped_variables, sensor_coordinates
 from .sensor_signal import AUXILIARY_PREFIX, compile_scene_probes, sensor_signal
 from .transient_checks import (
@@ -45,6 +45,7 @@ from .transient_checks import (
     peak_torque,
     with_soft_mesh_cause,
 )
+from .transient_loads import default_member, kinematic_ratio, law_arrays, member_row
 
 __all__ = [
     "TransientProblem",
@@ -77,62 +78,7 @@ class TransientProblem:
     static_deflection: np.ndarray | None = None  # per mesh, under the peak drive [m]
     sensors: tuple = ()  # SensorPlan per sensor probe (pygear.analysis.sensor_signal)
     initial_velocity: np.ndarray | None = None  # reduced DOFs at t = 0, None: at rest
-
-
-def _default_member(case: Case, member: str) -> str:
-    for stage in case.gearbox.stages:
-        if isinstance(stage, PlanetaryStage):
-            return f"{stage.name}.{member}.theta_z"
-    raise CaseError(f"transient.input and transient.output must be given for {case.name!r}")
-
-
-def _member_row(model: Model, label: str, path: str) -> np.ndarray:
-    row = dof_row(model, label)
-    if row is None or not np.any(row):
-        kind = "not a DOF" if row is None else "a DOF held fixed"
-        raise CaseError(
-            f"{path}: {label!r} is {kind} of this model (e.g. planetary.carrier.theta_z)"
-        )
-    return row
-
-
-def _kinematic_ratio(case: Case, model: Model, input_label: str, output_label: str) -> float:
-    """Output over input speed, i of docs/model.md §6.3: the stage's 1 + r_br/r_bs for its
-    carrier and sun, else the ratio in the model's rigid-body rotation (negative when
-    the output turns against the input)."""
-    for stage in case.gearbox.stages:
-        if isinstance(stage, PlanetaryStage):
-            carrier, sun = f"{stage.name}.carrier.theta_z", f"{stage.name}.sun.theta_z"
-            if (input_label, output_label) == (carrier, sun):
-                return stage.speed_ratio
-            if (input_label, output_label) == (sun, carrier):
-                return 1.0 / stage.speed_ratio
-    rigid = rigid_rotation(model)
-    speed_in = dof_row(model, input_label) @ rigid if rigid is not None else 0.0
-    speed_out = dof_row(model, output_label) @ rigid if rigid is not None else 0.0
-    scale = 1e-9 * np.abs(rigid).max() if rigid is not None else math.inf
-    if not (abs(speed_in) > scale and abs(speed_out) > scale):
-        raise CaseError(
-            "transient.load.ratio: the input and output are not linked by one rigid-body "
-            "rotation; give the generator law its ratio"
-        )
-    return float(speed_out / speed_in)
-
-
-def _law_arrays(
-    law: TorqueLaw | None, ratio: float, speed_reference: float, sign: int = 1
-) -> LawArrays:
-    """The kernel's form of a law; ``sign`` = -1 mirrors a drive law's torque."""
-    if law is None:
-        return LawArrays()
-    if law.kind == "constant":
-        return LawArrays("constant", (sign * law.torque, 0.0, 0.0, 0.0))
-    if law.kind == "ramp":
-        return LawArrays("ramp", (sign * law.torque, law.start, law.ramp_time, 0.0))
-    if law.kind == "table":
-        return LawArrays("table", times=law.times, torques=tuple(sign * t for t in law.torques))
-    i = law.ratio or ratio
-    return LawArrays("speed_power", (law.torque / i, i * speed_reference, law.exponent, 0.0))
+    initial_displacement: np.ndarray | None = None  # reduced DOFs at t = 0, None: undeflected
 
 
 def static_mesh_deflections(
@@ -151,7 +97,7 @@ def static_mesh_deflections(
         import scipy.linalg
 
         values, vectors = scipy.linalg.eigh(k, model.mass)
-        rigid = vectors[:, values < 1e-8 * np.abs(values).max()]
+        rigid = vectors[:, rigid_body_mask(values)]
         force = force - model.mass @ rigid @ (rigid.T @ force)
     q = np.linalg.lstsq(k, force, rcond=None)[0]
     return np.array([mesh.deflection @ q for mesh in model.meshes])
@@ -172,6 +118,10 @@ def transient_problem(
     if settings is None:
         raise CaseError(f"{path}: scene {scene.name!r} has no transient settings")
     settings.validate(path)
+    if model is None and case.drivetrain is not None:  # the whole drivetrain
+        from ..assembly.drivetrain_model import drivetrain_transient_model
+
+        model = drivetrain_transient_model(case, scene)
     model = model or assemble(case, scene, formulation=formulation)
     effects = tuple(scene.effects)
     varying = "time_varying_mesh_stiffness" in effects
@@ -185,19 +135,27 @@ def transient_problem(
     if separation and model.meshes:
         # the teeth part within the backlash and meet again on the coast flanks
         backlash = line_of_action_backlash(case, model, "tooth_separation")
-    input_label = settings.input or _default_member(case, "carrier")
-    output_label = settings.output or _default_member(case, "sun")
-    input_row = _member_row(model, input_label, f"{path}.input")
-    output_row = _member_row(model, output_label, f"{path}.output")
+    input_label = settings.input or default_member(case, "carrier")
+    output_label = settings.output or default_member(case, "sun")
+    input_row = member_row(model, input_label, f"{path}.input")
+    output_row = member_row(model, output_label, f"{path}.output")
     load = settings.load
     ratio = math.nan
     if load is not None and load.kind == "generator":
-        ratio = load.ratio or _kinematic_ratio(case, model, input_label, output_label)
+        ratio = load.ratio or kinematic_ratio(case, model, input_label, output_label)
         if ratio < 0:
             # the output turns against the input: the law acts on its speed along the
             # input's sense, so it still brakes the output's actual rotation
             output_row = -output_row
             ratio = -ratio
+    elif load is not None and peak_torque(load) > 0:
+        # a law of time brakes the output's rotation too: against the input's sense
+        # when the output turns the other way (a parallel stage, a generator behind it)
+        try:
+            if kinematic_ratio(case, model, input_label, output_label) < 0:
+                output_row = -output_row
+        except CaseError:
+            pass  # no one rigid rotation links them: the load acts along the output DOF
     omega_0 = (settings.speed_reference_rpm or 0.0) / RPM_PER_RAD_S
     direction = settings.drive.direction() if settings.drive is not None else 1
 
@@ -261,8 +219,8 @@ def transient_problem(
         restart_at_jumps=settings.restart_at_jumps,
         # the kernel measures the input speed (t_s) along the drive's sense: a negative
         # drive runs with the input member and the drive law mirrored (same force)
-        drive=_law_arrays(settings.drive, ratio, omega_0, sign=direction),
-        load=_law_arrays(load, ratio, omega_0),
+        drive=law_arrays(settings.drive, ratio, omega_0, sign=direction),
+        load=law_arrays(load, ratio, omega_0),
         input_weights=direction * input_row,
         output_weights=output_row,
         speed_reference=omega_0,
@@ -286,6 +244,8 @@ def transient_problem(
         sensors=sensors,
     )
     problem.initial_velocity = initial_velocity(problem)
+    if settings.start_loaded:
+        problem.initial_displacement = loaded_displacement(problem)
     return problem
 
 
@@ -342,6 +302,7 @@ def run_transient(
             settings.steps,
             problem.probes,
             v0=problem.initial_velocity,
+            q0=problem.initial_displacement,
             decimation=settings.decimation,
             window_steps=int(round(settings.mean_window / settings.time_step)),
             progress=progress,
@@ -375,6 +336,32 @@ def initial_velocity(problem: TransientProblem) -> np.ndarray | None:
             f"member {problem.input_label!r}, so there is no steady rotation to start on"
         )
     return rigid * (speed / input_speed)
+
+
+def loaded_displacement(problem: TransientProblem) -> np.ndarray:
+    """The static deflection under the torques at t = 0 with inertia relief.
+
+    The kernel's own torques at t = 0 (drive T_D on the input, load T_L against the
+    output, at the initial speed) give the force f = T_D w_in - T_L w_out.  Its part
+    along the rigid-body rotations, M Phi Phi^T f (Phi mass-normalised), accelerates
+    the drivetrain; the rest deflects it: K0 q = f - M Phi Phi^T f with Phi^T M q = 0,
+    solved as (K0 + M Phi Phi^T M) q = f - M Phi Phi^T f.  The equation of motion then
+    gives the rigid-body acceleration at t = 0 and no elastic one (at mean mesh
+    stiffness), so nothing swings.
+    """
+    import scipy.linalg
+
+    model, solver = problem.model, problem.solver
+    state = solver.start(v0=problem.initial_velocity)
+    drive, load = float(state["rstate"][1]), float(state["rstate"][2])
+    force = drive * solver.input_weights - load * solver.output_weights
+    stiffness = np.asarray(model.stiffness, dtype=np.float64)
+    mass = np.asarray(model.mass, dtype=np.float64)
+    values, vectors = scipy.linalg.eigh(stiffness, mass)
+    rigid = vectors[:, rigid_body_mask(values)]
+    relieved = force - mass @ rigid @ (rigid.T @ force)
+    regularised = stiffness + mass @ rigid @ rigid.T @ mass
+    return scipy.linalg.solve(regularised, relieved, assume_a="sym")
 
 
 def checkpoint_identity(problem: TransientProblem) -> str:
@@ -462,6 +449,8 @@ def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
         "scene": problem.scene.name,
         "formulation": model.formulation,
         "dof_set": model.dof_set,
+        "whole_drivetrain": int(model.attributes.get("drivetrain", 0)),
+        "start_loaded": int(settings.start_loaded),
         "effects": ", ".join(problem.effects) or "none (constant mesh stiffness)",
         "integrator": settings.integrator,
         "spectral_radius": c["rho_inf"],

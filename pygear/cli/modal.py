@@ -54,6 +54,11 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         metavar="N",
         help="a drivetrain case: the N lowest modes (sparse shift-invert; default 20)",
     )
+    modal.add_argument(
+        "--below",
+        metavar="FREQUENCY",
+        help="a drivetrain case: every mode below FREQUENCY (e.g. 3000Hz or 3000)",
+    )
 
     matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
     _add_model_options(matrices)
@@ -131,6 +136,10 @@ def _modal(args: argparse.Namespace) -> int:
     case = load_case(args.case)
     if case.drivetrain is not None:
         return _drivetrain_modal(case, args)
+    if args.below is not None:
+        from ..errors import CaseError
+
+        raise CaseError("--below is for drivetrain cases; a gearbox case gives every mode")
     started = time.perf_counter()
     model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
     modal = modal_results(model)
@@ -175,11 +184,12 @@ def _drivetrain_modal(case, args: argparse.Namespace) -> int:
 
     if args.modes < 1:
         raise CaseError(f"--modes must be at least 1 (got {args.modes})")
+    below = _frequency_hz("--below", args.below) if args.below is not None else None
     if args.out or args.compare_stage:
         raise CaseError("--out and --compare-stage are for gearbox cases, not a drivetrain")
     started = time.perf_counter()
     model = assemble_drivetrain(case, dof_set=args.dof_set)
-    modes = drivetrain_modes(model, args.modes)
+    modes = drivetrain_modes(model, args.modes, below_hz=below)
     elapsed = time.perf_counter() - started
     if args.json:
         summary = {
@@ -201,6 +211,22 @@ def _drivetrain_modal(case, args: argparse.Namespace) -> int:
     for m, (f, label) in enumerate(zip(modes.frequencies_hz, modes.dominant), start=1):
         print(f"{m:>4}  {f:>14.3f}  {label}")
     return 0
+
+
+def _frequency_hz(option: str, text: str) -> float:
+    """A frequency written ``3000``, ``3000Hz``, ``3 kHz`` [Hz]; CaseError otherwise."""
+    from ..errors import CaseError
+
+    compact = text.replace(" ", "").lower()
+    scale = 1e3 if compact.endswith("khz") else 1.0
+    number = compact.removesuffix("khz").removesuffix("hz")
+    try:
+        value = float(number) * scale
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise CaseError(f"{option} must be a positive frequency such as 3000Hz (got {text!r})")
+    return value
 
 
 def _finite_list(values) -> list[float]:

@@ -205,9 +205,7 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
     from ..runs.mesh_stiffness import mesh_stiffness_report
 
     if args.out is not None:
-        check_suffix(
-            "--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)"
-        )
+        check_suffix("--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)")
     if not math.isfinite(args.speed) or args.speed == 0:
         raise CaseError(
             f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"
@@ -238,13 +236,17 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from ..analysis.modal import modal_dataset, modal_results
     from ..analysis.transient import runup_table_text, transient_summary
-    from ..assembly.matrices import assemble
+    from ..assembly.drivetrain_model import scene_model
     from ..io import write_netcdf
     from ..model.case import load_case
     from ..runs.json_output import json_text
     from ..runs.outputs import write_modal_outputs, write_run_signals
     from ..runs.scene_checks import check_scenes
-    from ..runs.transient_outputs import write_sensor_figures, write_speed_figure
+    from ..runs.transient_outputs import (
+        write_load_figure,
+        write_sensor_figures,
+        write_speed_figure,
+    )
 
     figures = not args.no_figures
 
@@ -258,7 +260,7 @@ def _run(args: argparse.Namespace) -> int:
     for scene in scenes:
         started = time.perf_counter()
         case = base_case.for_scene(scene)
-        model = assemble(case, scene, formulation=args.formulation)
+        model = scene_model(case, scene, formulation=args.formulation)
         entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
         if "modal" in scene.analyses:
             modal = modal_results(model)
@@ -293,6 +295,13 @@ def _run(args: argparse.Namespace) -> int:
             speeds = out / f"{scene.name}_speeds.png"
             if figures and write_speed_figure(dataset, speeds) is not None:
                 entry["files"].append(str(speeds))  # drawn once every file of the scene is
+            loads = out / f"{scene.name}_loads.png"  # what a whole drivetrain's run is for
+            if (
+                figures
+                and dataset.attrs.get("whole_drivetrain")
+                and write_load_figure(dataset, loads)
+            ):
+                entry["files"].append(str(loads))
             if figures:
                 entry["files"] += [str(p) for p in write_sensor_figures(dataset, out, scene.name)]
         entry["wall_s"] = time.perf_counter() - started

@@ -369,6 +369,11 @@ class Transient:
         Speed of the input member at t = 0 [rpm], signed like its DOF; every member
         starts on the rigid-body rotation at that speed (steady operation without a
         run-up from rest).  0: from rest.
+    start_loaded : bool
+        Start in the static deflection under the torques at t = 0, the rigid-body
+        rotation taking the net torque as acceleration (inertia relief), instead of
+        undeflected: a steady operating point then starts without the torsional swing
+        of loads applied at once.  The deflection is that of the mean mesh stiffness.
     """
 
     duration: float
@@ -392,6 +397,7 @@ class Transient:
     deflection_limit: float = 1e-3
     contact_sign: tuple[int, ...] | None = None
     initial_speed_rpm: float = 0.0
+    start_loaded: bool = False
 
     def __post_init__(self) -> None:
         if isinstance(self.probes, list):
@@ -505,6 +511,10 @@ class Transient:
             raise CaseError(
                 f"{path}.initial_speed_rpm must be a finite speed in rpm "
                 f"(got {self.initial_speed_rpm!r})"
+            )
+        if not isinstance(self.start_loaded, bool):
+            raise CaseError(
+                f"{path}.start_loaded must be True or False (got {self.start_loaded!r})"
             )
 
     def describe(self) -> str:

@@ -19,7 +19,8 @@ from pathlib import Path
 import pandas as pd
 
 from ..analysis.modal import modal_analysis
-from ..assembly.matrices import Model, assemble
+from ..assembly.drivetrain_model import scene_model
+from ..assembly.matrices import Model
 from ..errors import CaseError
 from ..io import atomic_path, write_netcdf
 from ..model.case import Case, Scene, find_case_dir, load_case
@@ -175,7 +176,7 @@ def run_scene(case_dir: str, scene_name: str, out_dir: str, figures: bool = True
         check_scenes(case, [scene], out=out_dir)  # probe targets, memory, disk: before any work
         case = case.for_scene(scene)  # its parameter changes, as `pygear run` applies them
         row["analyses"] = ",".join(scene.analyses)
-        model = assemble(case, scene)
+        model = scene_model(case, scene)
         row.update(formulation=model.formulation, dof_set=model.dof_set, dofs=model.size)
         unsupported = [a for a in scene.analyses if a not in SCENE_ANALYSES]
         for analysis in scene.analyses:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..analysis.transient import transient_problem
 from ..analysis.transient_checks import FOOTPRINT_HINT, signal_footprint, transient_footprint
-from ..assembly.matrices import assemble
+from ..assembly.drivetrain_model import scene_model
 from ..model.case import Case, Scene
 from ..resources import require_disk
 
@@ -37,7 +37,7 @@ def check_scenes(
     files, counted = 0.0, []
     for scene in scenes:
         scene_case = case.for_scene(scene)
-        model = assemble(scene_case, scene, formulation=formulation)
+        model = scene_model(scene_case, scene, formulation=formulation)
         if "transient" not in scene.analyses or scene.transient is None:
             continue
         problem = transient_problem(scene_case, scene, formulation=formulation, model=model)

@@ -30,6 +30,7 @@ import xarray as xr
 from .._version import __version__
 from ..analysis.modal import modal_analysis
 from ..analysis.sensitivity import frequency_sensitivity, parse_values
+from ..assembly.drivetrain_model import scene_model
 from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
 from ..io import atomic_path, source_identity, write_netcdf
@@ -404,7 +405,7 @@ def run_point(task: PointTask) -> dict:
     """
     started = time.perf_counter()
     try:
-        model = assemble(task.case, task.scene, formulation=task.formulation)
+        model = scene_model(task.case, task.scene, formulation=task.formulation)
         parts = [POINT_ANALYSES[a](task.case, task.scene, model) for a in task.scene.analyses]
         data = xr.merge(parts, compat="override", join="outer", combine_attrs="override")
         data["point_wall_time"] = (

@@ -104,6 +104,17 @@ def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     return save_figure(figure, target, dpi=figure.dpi)  # atomic: no half-written figure
 
 
+def write_load_figure(dataset: xr.Dataset, target: Path) -> Path | None:
+    """Draw a run's mesh forces and torques into ``target`` (PNG, atomically); None, and
+    no file, when the run records no mesh force."""
+    if not any(v.attrs.get("quantity") == "mesh_force" for v in dataset.data_vars.values()):
+        return None
+    from ..plots.transient import plot_loads  # Matplotlib loads only for a figure
+
+    figure = plot_loads([dataset])
+    return save_figure(figure, target, dpi=figure.dpi)  # atomic: no half-written figure
+
+
 def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> list[Path]:
     """Each sensor channel's carrier-order spectrum around the first two mesh harmonics,
     sidebands labelled (``<scene>_<channel>_orders.png``); none for a run shorter than
