@@ -127,8 +127,9 @@ def kernel_storage(
                     f"automatic: {shape}; a sparse step reads {2 * band / sparse:.2f} times less"
                 )
                 return _sparse_storage(mass, damping, stiffness, lower, reason)
-    dense = [x.toarray() if is_sparse_matrix(x) else x for x in (mass, damping, stiffness)]
-    storage = _band_storage(*dense, deflection, requested)
+    else:
+        order, kd = _band_order(n, lower, deflection)
+    storage = _band_storage((mass, damping, stiffness), order, kd, requested)
     if choice == "auto" and not refactor and factor_entries is not None:
         storage.reason += f"; the banded step reads less than the sparse one ({shape})"
     elif choice == "auto" and refactor:
@@ -136,24 +137,19 @@ def kernel_storage(
     return storage
 
 
-def _band_storage(mass, damping, stiffness, deflection, requested: str) -> KernelStorage:
-    """Bands of dense M, C, K0 in the RCM order of their pattern and the meshes'."""
-    mass, damping, stiffness = (np.asarray(x, dtype=np.float64) for x in (mass, damping, stiffness))
-    n = mass.shape[0]
-    pattern = (np.abs(mass) + np.abs(damping) + np.abs(stiffness)) > 0
-    if deflection is not None:
-        nz = np.abs(deflection) > 0
-        pattern |= (nz.T.astype(int) @ nz.astype(int)) > 0
-    pattern |= np.eye(n, dtype=bool)
-    order = reverse_cuthill_mckee(pattern)
-    kd = band_half_width(pattern, order)
+def _band_storage(matrices, order: np.ndarray, kd: int, requested: str) -> KernelStorage:
+    """LAPACK lower bands of M, C, K0 (dense or sparse, never densified) in ``order``."""
+    n = order.size
+    position = np.empty(n, dtype=np.int64)
+    position[order] = np.arange(n)
     solver, reason = choose_linear_solver(n, kd, requested)
     bands = {}
-    for name, matrix in (("mass", mass), ("damping", damping), ("stiffness", stiffness)):
-        permuted = matrix[np.ix_(order, order)]
+    for name, matrix in zip(("mass", "damping", "stiffness"), matrices):
+        rows, columns, values = _triplets(matrix)
+        i, j = position[rows], position[columns]
+        keep = i >= j  # the lower triangle in the kernel's order (the matrix is symmetric)
         band = np.zeros((kd + 1, n), order="F")
-        for d in range(kd + 1):
-            band[d, : n - d] = np.diagonal(permuted, -d)
+        np.add.at(band, (i[keep] - j[keep], j[keep]), values[keep])
         bands[name] = band
     inert = {
         "sparse_column_start": np.zeros(n + 1, dtype=np.int32),
@@ -165,18 +161,24 @@ def _band_storage(mass, damping, stiffness, deflection, requested: str) -> Kerne
     return KernelStorage(solver, reason, order, kd, bands, inert)
 
 
+def _triplets(matrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows, columns and values of a dense or sparse matrix's non-zero entries."""
+    if is_sparse_matrix(matrix):
+        coo = matrix.tocoo()
+        keep = coo.data != 0
+        return coo.row[keep].astype(np.int64), coo.col[keep].astype(np.int64), coo.data[keep]
+    dense = np.asarray(matrix, dtype=np.float64)
+    rows, columns = np.nonzero(dense)
+    return rows, columns, dense[rows, columns]
+
+
 def _lower_pattern(mass, damping, stiffness) -> tuple[np.ndarray, np.ndarray]:
     """0-based CSC column pointers and rows of the lower triangle (diagonal included) of
     the union of the three matrices' patterns and its transpose."""
     n = int(mass.shape[0])
     rows, columns = [np.arange(n)], [np.arange(n)]
     for matrix in (mass, damping, stiffness):
-        if is_sparse_matrix(matrix):
-            coo = matrix.tocoo()
-            keep = coo.data != 0
-            i, j = coo.row[keep], coo.col[keep]
-        else:
-            i, j = np.nonzero(np.asarray(matrix))
+        i, j, _ = _triplets(matrix)
         rows += [np.maximum(i, j)]
         columns += [np.minimum(i, j)]
     keys = np.unique(np.concatenate(columns).astype(np.int64) * n + np.concatenate(rows))
@@ -195,10 +197,15 @@ def _band_order(n: int, lower, deflection) -> tuple[np.ndarray, int]:
         import scipy.sparse.csgraph
 
         pattern = scipy.sparse.csr_matrix((np.ones(row.size), (row, column)), shape=(n, n))
-        order = np.asarray(scipy.sparse.csgraph.reverse_cuthill_mckee(pattern + pattern.T, True))
+        pattern = pattern + pattern.T
+        if deflection is not None:
+            coupled = scipy.sparse.csr_matrix(np.abs(deflection) > 0, dtype=np.float64)
+            pattern = pattern + coupled.T @ coupled
+        order = np.asarray(scipy.sparse.csgraph.reverse_cuthill_mckee(pattern.tocsr(), True))
         position = np.empty(n, dtype=np.int64)
         position[order] = np.arange(n)
-        return order, int(np.abs(position[row] - position[column]).max(initial=0))
+        coo = pattern.tocoo()
+        return order, int(np.abs(position[coo.row] - position[coo.col]).max(initial=0))
     pattern = np.zeros((n, n), dtype=bool)
     pattern[row, column] = True
     pattern |= pattern.T
@@ -236,12 +243,7 @@ def _sparse_storage(mass, damping, stiffness, lower, reason: str) -> KernelStora
     keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(column_start)) * n + row
     values = {}
     for name, matrix in zip(("mass", "damping", "stiffness"), (mass, damping, stiffness)):
-        if is_sparse_matrix(matrix):
-            coo = matrix.tocoo()
-            i, j, data = coo.row, coo.col, coo.data
-        else:
-            i, j = np.nonzero(np.asarray(matrix))
-            data = np.asarray(matrix)[i, j]
+        i, j, data = _triplets(matrix)
         keep = i >= j
         on_pattern = np.zeros(row.size)
         where = np.searchsorted(keys, j[keep].astype(np.int64) * n + i[keep])
