@@ -17,6 +17,7 @@ module elements
   public :: formulation_improved, formulation_consistent, formulation_lin_parker
   public :: mesh_sun_planet, mesh_ring_planet
   public :: ok, err_argument, err_option
+  public :: check_positive, check_non_negative
 
   integer(ik), parameter :: formulation_improved = 1    !< Yang 2016 as published
   integer(ik), parameter :: formulation_consistent = 2  !< exact planet kinetic energy

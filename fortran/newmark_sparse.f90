@@ -145,12 +145,8 @@ contains
     type(sparse_operators), intent(in) :: ops  !< factored operators
     real(dp), intent(inout) :: rhs(ops%n)      !< right-hand side in, solution out [SI]
     integer(ik), intent(out) :: ierr           !< error code (0 = ok)
-    type(sparse_factor) :: factor
-    integer(ik) :: info
 
-    factor = ops%khat_factor  ! a copy of the handle: the problem itself stays read-only
-    call sparse_factor_solve(factor, rhs, info)
-    ierr = merge(so_ok, so_err_solve, info == sp_ok)
+    call solve_with(ops%khat_factor, rhs, ierr)
   end subroutine solve_khat
 
   !> rhs = M^-1 rhs.
@@ -158,13 +154,23 @@ contains
     type(sparse_operators), intent(in) :: ops  !< factored operators
     real(dp), intent(inout) :: rhs(ops%n)      !< right-hand side in, solution out [SI]
     integer(ik), intent(out) :: ierr           !< error code (0 = ok)
+
+    call solve_with(ops%mass_factor, rhs, ierr)
+  end subroutine solve_mass
+
+  !> rhs = A^-1 rhs with a copy of a factor's handle, so that the operators holding the
+  !> factor stay read-only (the solve's workspace lives behind the handle).
+  subroutine solve_with(held, rhs, ierr)
+    type(sparse_factor), intent(in) :: held  !< the operators' factor
+    real(dp), intent(inout) :: rhs(:)        !< right-hand side in, solution out [SI]
+    integer(ik), intent(out) :: ierr         !< error code (0 = ok)
     type(sparse_factor) :: factor
     integer(ik) :: info
 
-    factor = ops%mass_factor  ! a copy of the handle: the problem itself stays read-only
+    factor = held
     call sparse_factor_solve(factor, rhs, info)
     ierr = merge(so_ok, so_err_solve, info == sp_ok)
-  end subroutine solve_mass
+  end subroutine solve_with
 
   !> This module's code for a CHOLMOD status (definite: the code for a matrix that is
   !> not positive definite).

@@ -19,14 +19,12 @@
 !> Timoshenko beam theory", J. Appl. Mech. 68, 87-92 (the hollow-circle expression).
 module shaft_elements
   use kinds, only: dp, ik
+  use elements, only: ok, err_argument, check_positive, check_non_negative
   implicit none
   private
 
   public :: hollow_shear_coefficient, timoshenko_shaft, rigid_disc
   public :: bearing_to_ground, bearing_between_nodes, flexible_coupling
-
-  integer(ik), parameter :: ok = 0            !< success
-  integer(ik), parameter :: err_argument = 1  !< a physical argument is out of range
 
   real(dp), parameter :: pi = 3.14159265358979323846264338327950288_dp
 
@@ -349,21 +347,4 @@ contains
     end do
   end function check_bearing
 
-  !> err_argument unless every value is positive and finite.
-  pure function check_positive(values) result(ierr)
-    real(dp), intent(in) :: values(:)  !< lengths, moduli or densities [SI]
-    integer(ik) :: ierr                !< error code (0 = ok)
-
-    ierr = ok
-    if (any(.not. (values > 0.0_dp)) .or. any(values > huge(1.0_dp))) ierr = err_argument
-  end function check_positive
-
-  !> err_argument unless every value is non-negative and finite.
-  pure function check_non_negative(values) result(ierr)
-    real(dp), intent(in) :: values(:)  !< stiffnesses, masses or lengths [SI]
-    integer(ik) :: ierr                !< error code (0 = ok)
-
-    ierr = ok
-    if (any(.not. (values >= 0.0_dp)) .or. any(values > huge(1.0_dp))) ierr = err_argument
-  end function check_non_negative
 end module shaft_elements

@@ -23,14 +23,17 @@ load SciPy's sparse package.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _kernel
 from .band_ordering import band_half_width, reverse_cuthill_mckee
-from .newmark_support import LINEAR_SOLVER_CODES, LINEAR_SOLVER_VARIABLE, choose_linear_solver
+from .newmark_support import (
+    LINEAR_SOLVER_VARIABLE,
+    choose_linear_solver,
+    requested_linear_solver,
+)
 
 __all__ = ["SPARSE_OVERHEAD", "KernelStorage", "is_sparse_matrix", "kernel_storage"]
 
@@ -99,13 +102,7 @@ def kernel_storage(
     refactor : bool
         The run refactors Khat (equivalent-load mode ``refactor``): banded paths only.
     """
-    forced = os.environ.get(LINEAR_SOLVER_VARIABLE, "").strip()
-    choice = forced or requested
-    if choice not in (*LINEAR_SOLVER_CODES, "auto"):
-        where = f"environment variable {LINEAR_SOLVER_VARIABLE}" if forced else "linear_solver"
-        raise ValueError(
-            f"{where} must be one of {', '.join((*LINEAR_SOLVER_CODES, 'auto'))} (got {choice!r})"
-        )
+    choice, forced = requested_linear_solver(requested)
     n = int(mass.shape[0])
     lower = _lower_pattern(mass, damping, stiffness)
     if choice == SPARSE_SOLVER:

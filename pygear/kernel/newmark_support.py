@@ -24,6 +24,7 @@ __all__ = [
     "LINEAR_SOLVER_VARIABLE",
     "PROBE_CODES",
     "RPARAM_LAYOUT",
+    "requested_linear_solver",
     "INTERRUPT_SIGNALS",
     "GrowthDiagnostic",
     "PhysicalInstabilityError",
@@ -122,13 +123,7 @@ def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tup
     ``requested`` (or the environment variable :data:`LINEAR_SOLVER_VARIABLE`, which
     wins) forces either path.
     """
-    forced = os.environ.get(LINEAR_SOLVER_VARIABLE, "").strip()
-    choice = forced or requested
-    if choice not in (*LINEAR_SOLVER_CODES, "auto"):
-        where = f"environment variable {LINEAR_SOLVER_VARIABLE}" if forced else "linear_solver"
-        raise ValueError(
-            f"{where} must be one of {', '.join((*LINEAR_SOLVER_CODES, 'auto'))} (got {choice!r})"
-        )
+    choice, forced = requested_linear_solver(requested)
     shape = f"{n} DOFs, band half-width {bandwidth}, band fill {_band_fill(n, bandwidth):.0%}"
     if choice != "auto":
         source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else f"linear_solver={choice!r}"
@@ -143,6 +138,25 @@ def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tup
             "loses accuracy over long runs, so it runs only on request"
         )
     return "banded_cholesky", f"automatic: {shape}; band solves cost less above {limit} DOFs"
+
+
+def requested_linear_solver(requested: str) -> tuple[str, str]:
+    """The path asked for, by the environment variable :data:`LINEAR_SOLVER_VARIABLE`
+    (which wins) or by ``requested``, and the variable's value ("" when unset).
+
+    Raises
+    ------
+    ValueError
+        Neither ``auto`` nor a path, naming where it was asked for.
+    """
+    forced = os.environ.get(LINEAR_SOLVER_VARIABLE, "").strip()
+    choice = forced or requested
+    if choice not in (*LINEAR_SOLVER_CODES, "auto"):
+        where = f"environment variable {LINEAR_SOLVER_VARIABLE}" if forced else "linear_solver"
+        raise ValueError(
+            f"{where} must be one of {', '.join((*LINEAR_SOLVER_CODES, 'auto'))} (got {choice!r})"
+        )
+    return choice, forced
 
 
 def _band_fill(n: int, bandwidth: int) -> float:

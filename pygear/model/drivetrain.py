@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 from ..errors import CaseError
 from .components import require_non_negative, require_positive
-from .gearbox import Gearbox, member_dofs
+from .gearbox import Gearbox, member_dofs, reachable
 from .values import is_whole_number
 
 __all__ = [
@@ -250,8 +250,7 @@ class Rotor:
     at: str
 
     def validate(self, path: str) -> None:
-        for name in ("mass", "polar_inertia", "diametral_inertia"):
-            require_positive(f"{path}.{name}", getattr(self, name))
+        _require_disc(self, path)
 
 
 @dataclass(frozen=True)
@@ -276,8 +275,7 @@ class Generator:
     at: str
 
     def validate(self, path: str) -> None:
-        for name in ("mass", "polar_inertia", "diametral_inertia"):
-            require_positive(f"{path}.{name}", getattr(self, name))
+        _require_disc(self, path)
 
 
 @dataclass(frozen=True)
@@ -450,21 +448,19 @@ class Drivetrain:
     def _check_connected(self, path: str) -> None:
         edges = [(c.a.split(".")[0], c.b.split(".")[0]) for c in self.couplings]
         edges += [(m.at.split(".")[0], "<gearbox>") for m in self.mounts]
-        start = self.rotor.at.split(".")[0]
-        reached, frontier = {start}, [start]
-        while frontier:
-            here = frontier.pop()
-            for a, b in edges:
-                for x, y in ((a, b), (b, a)):
-                    if x == here and y not in reached:
-                        reached.add(y)
-                        frontier.append(y)
+        reached = reachable(self.rotor.at.split(".")[0], edges)
         lost = [s.name for s in self.shafts if s.name not in reached]
         if lost:
             raise CaseError(
                 f"{path}.shafts: shaft {lost[0]!r} has no path to the rotor on {self.rotor.at} "
                 "(add a coupling or a gearbox mount on it)"
             )
+
+
+def _require_disc(disc: Rotor | Generator, path: str) -> None:
+    """A rotor's or generator's mass and inertias are positive."""
+    for name in ("mass", "polar_inertia", "diametral_inertia"):
+        require_positive(f"{path}.{name}", getattr(disc, name))
 
 
 def require_identifier(path: str, name: object) -> None:

@@ -237,6 +237,19 @@ class TorsionalSpring:
     damping: float = 0.0
 
 
+def reachable(start: str, edges: list[tuple[str, str]]) -> set[str]:
+    """Every name joined to ``start`` by a chain of undirected ``edges`` (start included)."""
+    reached, frontier = {start}, [start]
+    while frontier:
+        here = frontier.pop()
+        for a, b in edges:
+            for x, y in ((a, b), (b, a)):
+                if x == here and y not in reached:
+                    reached.add(y)
+                    frontier.append(y)
+    return reached
+
+
 def member_dofs(stage: object, member: str) -> tuple[str, ...]:
     """DOF names of a stage member (planets in their revolving frame)."""
     if member not in stage.member_names:
@@ -376,15 +389,7 @@ class Gearbox:
         self._check_connected(path, edges)
 
     def _check_connected(self, path: str, edges: list[tuple[str, str]]) -> None:
-        start = self.input.split(".")[0]
-        reached, frontier = {start}, [start]
-        while frontier:
-            here = frontier.pop()
-            for a, b in edges:
-                for x, y in ((a, b), (b, a)):
-                    if x == here and y not in reached:
-                        reached.add(y)
-                        frontier.append(y)
+        reached = reachable(self.input.split(".")[0], edges)
         lost = [s.name for s in self.stages if s.name not in reached]
         if lost:
             raise CaseError(
