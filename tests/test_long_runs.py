@@ -206,13 +206,19 @@ def test_speeds_keep_1e9_of_their_value(steady, steps):
 
 
 def test_no_drift_with_the_growing_angles(steady):
-    """Ten times the steps, ten times the angle, and the errors do not follow: at most
-    twice the short run's (the largest of ten times as many samples of round-off),
-    where absolute angles would give ten times."""
+    """Ten times the steps, ten times the angle, and the errors do not follow.  Errors
+    that grew with the absolute angle would grow ten times; round-off alone adds like a
+    random walk (conftest.roundoff_tolerance), at most sqrt(10) times over ten times the
+    steps, and less where the mass-proportional damping holds it stationary.  The bound,
+    10^0.75 = 5.6, lies between the two on a log scale.  (Measured: 1.1 and 2.8 times
+    on the banded and the sparse path; the short run's round-off sample differs between
+    the two factorizations, the long run's level does not: 7.0e-11 and 8.0e-11.)"""
     short, long = _errors(steady, SHORT), _errors(steady, LONG)
-    assert long["angle"] / short["angle"] == pytest.approx(10.0, rel=1e-3)
-    assert long["deflection_relative"] <= 2 * short["deflection_relative"]
-    assert long["speed_relative"] <= 2 * short["speed_relative"]
+    growth = LONG / SHORT
+    assert long["angle"] / short["angle"] == pytest.approx(growth, rel=1e-3)
+    bound = growth**0.75
+    assert long["deflection_relative"] <= bound * short["deflection_relative"]
+    assert long["speed_relative"] <= bound * short["speed_relative"]
 
 
 def test_final_state_keeps_the_absolute_angles(steady):
