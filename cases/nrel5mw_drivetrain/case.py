@@ -18,6 +18,7 @@ spread in the same proportion, C = beta K with beta = c / k on every torsional e
 of that chain, so the drivetrain mode keeps his damping ratio.
 """
 
+import dataclasses
 import importlib.util
 import math
 from pathlib import Path
@@ -287,6 +288,19 @@ EMERGENCY_STOP = Transient(
     probes=PROBES,
     mean_window=0.4,  # s: the speeds at the end of the record
 )
+# The same stop on the spatial model (144 DOFs): the planets' bearings carry the
+# meshes' reversal to the carrier, and the rotor's weightless tilt and the planets'
+# axial modes lie near the torsional one (docs/drivetrain.md).
+EMERGENCY_STOP_SPATIAL = dataclasses.replace(
+    EMERGENCY_STOP,
+    duration=1.5,  # s: the step and two swings
+    probes=PROBES
+    + (
+        Probe("bearing_force", "stage1.planet1_bearing.zeta"),  # radial, planet frame
+        Probe("bearing_force", "stage1.planet1_bearing.eta"),  # tangential: the torque
+        Probe("bearing_force", "stage1.carrier_bearing.y"),
+    ),
+)
 
 case = Case(
     name="nrel5mw_drivetrain",
@@ -314,6 +328,13 @@ case = Case(
             effects=("time_varying_mesh_stiffness", "tooth_separation"),
             dof_set="torsional",
             transient=EMERGENCY_STOP,
+        ),
+        Scene(
+            "emergency_stop_spatial",
+            analyses=("transient",),
+            effects=("time_varying_mesh_stiffness", "tooth_separation"),
+            dof_set="spatial",
+            transient=EMERGENCY_STOP_SPATIAL,
         ),
     ),
 )

@@ -31,7 +31,8 @@ LOAD_QUANTITIES = {
     "drive_torque": "torque [N m]",
     "load_torque": "torque [N m]",
 }
-"""Channels of the loads figure and their axis units."""
+"""Channels of the loads figure and their axis units (a rotational bearing spring's
+force is a moment; the drivetrain figures show translational ones)."""
 
 
 def _run_series(
