@@ -31,12 +31,12 @@ import numpy as np
 from ..errors import CaseError
 from ..model.case import Case
 from ..model.scene_settings import scene_settings
-from .drivetrain import DrivetrainModel, assemble_drivetrain
 from .matrices import Model, Node, assemble
 
 if TYPE_CHECKING:
     from ..model.case import Scene
     from ..model.scene_settings import SceneSettings
+    from .drivetrain import DrivetrainModel
 
 __all__ = ["DRIVETRAIN_BODIES", "drivetrain_transient_model", "scene_model"]
 
@@ -78,6 +78,9 @@ def drivetrain_transient_model(case: Case, scene: Scene | SceneSettings | None =
                 "drivetrain yet (its shafts' gyroscopic terms are in the modal analysis "
                 "only); remove it or run the gearbox case"
             )
+    # SciPy's sparse package loads for drivetrains only: a gearbox run does without it
+    from .drivetrain import assemble_drivetrain
+
     return as_model(assemble_drivetrain(case, settings), case)
 
 
