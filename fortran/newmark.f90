@@ -21,7 +21,8 @@
 !> refactor moved that, so the run's state stays the same on both paths (khat_factor,
 !> the band factor, is used on the banded path only).  On the sparse path
 !> (solver_sparse, module newmark_sparse) the matrices are sparse and each solve uses
-!> the problem's CHOLMOD factor of Khat at mean mesh stiffness (no refactor mode).
+!> the problem's CHOLMOD factor of Khat, refactored numerically in refactor mode (and
+!> first to the run's k_factored when another run left it elsewhere).
 !> The DOF order is the caller's (reverse Cuthill-McKee in pygear).
 !>
 !> Meshes (equivalent load, the paper's eq. 25): mesh m has a sparse deflection
@@ -70,7 +71,7 @@ module newmark
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem, problem_multiply, matrix_mass, matrix_damping, &
                             matrix_stiffness
-  use newmark_sparse, only: solve_khat, solve_mass, so_ok
+  use newmark_sparse, only: solve_khat, solve_mass, refactor_khat, so_ok
   use newmark_probes, only: record_probes
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
   use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update
@@ -348,6 +349,16 @@ contains
         end if
       else
         x_transposed = problem%dense_operator
+      end if
+    end if
+    if (sparse) then  ! the problem's factor at this run's k_factored
+      if (any(k_factored /= problem%sparse%factor_stiffness)) then
+        call refactor_khat(problem%sparse, problem%mesh, problem%mean_stiffness, k_factored, &
+                           bad, info)
+        if (info /= so_ok) then
+          ierr = nm_err_definite
+          return
+        end if
       end if
     end if
     restart = problem%iparam(ip_restart) /= 0 .and. nonlinear .and. problem%iparam(ip_varying) /= 0
@@ -720,6 +731,12 @@ contains
           return
         end if
         call state_product()
+        return
+      end if
+      if (sparse) then  ! CHOLMOD refactors the problem's factor numerically
+        call refactor_khat(problem%sparse, problem%mesh, problem%mean_stiffness, k_factored, &
+                           bad, info)
+        if (info /= so_ok) ierr = nm_err_definite
         return
       end if
       khat_factor = problem%khat_band

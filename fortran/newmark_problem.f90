@@ -18,7 +18,7 @@
 !> its columns, formed once here.  A problem on the sparse path (solver_sparse, module
 !> newmark_sparse) holds M, C and K0 on one sparse pattern instead of the bands (kd = 0,
 !> its band arrays unused) and the CHOLMOD factors of Khat and M, made here and released
-!> with the problem; it refuses equivalent-load mode refactor.
+!> with the problem.
 module newmark_problem
   use kinds, only: dp, ik
   use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
@@ -112,7 +112,7 @@ contains
       call factor_operators(kept%sparse, (1.0_dp - kept%rparam(rp_alpha_m)) / ((1.0_dp - &
                             kept%rparam(rp_alpha_f)) * kept%rparam(rp_beta) * kept%rparam(rp_dt)**2), &
                             kept%rparam(rp_gamma) / (kept%rparam(rp_beta) * kept%rparam(rp_dt)), &
-                            bad, info)
+                            kept%mean_stiffness, bad, info)
       if (info /= so_ok) then
         if (info == so_err_definite) then
           ierr = nm_err_definite
@@ -206,12 +206,8 @@ contains
                rparam => problem%rparam, iparam => problem%iparam)
       if (n < 1 .or. kd < 0 .or. kd > n - 1 .or. n_mesh < 0) return
       if (.not. bands_fit(problem)) return
-      if (iparam(ip_solver) == solver_sparse) then  ! one sparse pattern, no band, no refactor
+      if (iparam(ip_solver) == solver_sparse) then  ! one sparse pattern, no band
         if (kd /= 0 .or. problem%sparse%n /= n .or. .not. pattern_fits(problem%sparse)) return
-        if (iparam(ip_mode) == mode_refactor) then
-          bad = 100 + ip_mode
-          return
-        end if
       end if
       if (.not. (rparam(rp_dt) > 0.0_dp .and. rparam(rp_dt) < huge(1.0_dp))) then
         bad = rp_dt

@@ -8,21 +8,26 @@
 !> same pattern; CHOLMOD (module sparse_cholesky) analyses it once, with a fill-reducing
 !> ordering, and factors it once per problem, and every solve is two sparse triangular
 !> solves.  M is factored the same way for the initial acceleration and the restarts at
-!> stiffness jumps.  Mesh-stiffness changes enter as the equivalent load (module newmark),
-!> so Khat never changes within a problem: refactoring (equivalent-load mode refactor)
-!> runs on the banded and dense paths only.
+!> stiffness jumps.  Mesh-stiffness changes enter as the equivalent load (module newmark);
+!> in equivalent-load mode refactor, a refactor to mesh stiffness kf adds
+!> sum_m (kf_m - kbar_m) b_m b_m^T to Khat on the same pattern (it holds the meshes'
+!> couplings) and CHOLMOD refactors numerically, keeping its analysis.  The factor is the
+!> problem's, shared by its runs: it records the stiffness it holds, and a run whose own
+!> k_factored differs (another run refactored in between) refactors it back first.
 !>
 !> A product with a symmetric matrix reads each stored off-diagonal entry twice (A(i, j)
 !> x(j) into y(i) and A(i, j) x(i) into y(j)): about 2 nnz multiplications.
 module newmark_sparse
   use kinds, only: dp, ik
   use sparse_cholesky, only: sparse_factor, sparse_factor_create, sparse_factor_solve, &
-                             sparse_factor_free, sp_ok, sp_err_unavailable, sp_err_definite
+                             sparse_factor_refactor, sparse_factor_free, sp_ok, &
+                             sp_err_unavailable, sp_err_definite
+  use newmark_support, only: sparse_rows
   implicit none
   private
 
   public :: sparse_operators, symmetric_multiply, pattern_fits, factor_operators, &
-            free_operators, solve_khat, solve_mass
+            free_operators, solve_khat, solve_mass, refactor_khat
   public :: so_ok, so_err_pattern, so_err_definite, so_err_mass, so_err_unavailable, so_err_solve
 
   integer(ik), parameter :: so_ok = 0               !< success
@@ -43,8 +48,12 @@ module newmark_sparse
     real(dp), allocatable :: mass(:)                !< (nnz) M [kg, kg m^2]
     real(dp), allocatable :: damping(:)             !< (nnz) C [N s/m, N m s/rad]
     real(dp), allocatable :: stiffness(:)           !< (nnz) K0 [N/m, N m/rad]
-    type(sparse_factor) :: khat_factor              !< Khat at mean mesh stiffness
+    real(dp), allocatable :: khat(:)                !< (nnz) Khat at mean mesh stiffness [N/m]
+    type(sparse_factor) :: khat_factor              !< Khat at the stiffness factor_stiffness holds
     type(sparse_factor) :: mass_factor              !< M
+    !> mesh stiffness in khat_factor [N/m]; a pointer, so that a run may refactor the
+    !> problem's factor while the problem itself stays read-only (intent(in))
+    real(dp), pointer :: factor_stiffness(:) => null()
   end type sparse_operators
 
 contains
@@ -103,10 +112,12 @@ contains
   end function pattern_fits
 
   !> Form Khat from M, C, K0 and the step's coefficients and factor it and M.
-  subroutine factor_operators(ops, mass_coefficient, damping_coefficient, bad, ierr)
+  subroutine factor_operators(ops, mass_coefficient, damping_coefficient, mean_stiffness, &
+                              bad, ierr)
     type(sparse_operators), intent(inout) :: ops   !< the operators (factors set on success)
     real(dp), intent(in) :: mass_coefficient       !< (1 - alpha_m) s [1/s^2]
     real(dp), intent(in) :: damping_coefficient    !< gamma / (beta dt) [1/s]
+    real(dp), intent(in) :: mean_stiffness(:)      !< kbar_m, the meshes' stiffness in Khat [N/m]
     integer(ik), intent(out) :: bad                !< failing column (1-based), 0 none [-]
     integer(ik), intent(out) :: ierr               !< error code (0 = ok)
     real(dp), allocatable :: khat(:)
@@ -116,6 +127,7 @@ contains
     nnz = ops%column_start(ops%n + 1)
     khat = ops%stiffness(1:nnz) + mass_coefficient * ops%mass(1:nnz) &
            + damping_coefficient * ops%damping(1:nnz)
+    ops%khat = khat
     call sparse_factor_create(ops%n, ops%column_start, ops%row_index(1:nnz), khat, &
                               ordering_default, method_auto, ops%khat_factor, bad, info)
     if (info /= sp_ok) then
@@ -129,6 +141,8 @@ contains
       ierr = translate(info, so_err_mass)
       return
     end if
+    allocate (ops%factor_stiffness(size(mean_stiffness)))
+    ops%factor_stiffness = mean_stiffness
     ierr = so_ok
   end subroutine factor_operators
 
@@ -138,7 +152,73 @@ contains
 
     call sparse_factor_free(ops%khat_factor)
     call sparse_factor_free(ops%mass_factor)
+    if (associated(ops%factor_stiffness)) deallocate (ops%factor_stiffness)
   end subroutine free_operators
+
+  !> Refactor Khat numerically with mesh stiffness k_new: Khat at mean stiffness plus
+  !> sum_m (k_new_m - kbar_m) b_m b_m^T on the pattern, CHOLMOD's analysis kept.
+  subroutine refactor_khat(ops, mesh, mean_stiffness, k_new, bad, ierr)
+    type(sparse_operators), intent(in) :: ops      !< factored operators (their factor changes)
+    type(sparse_rows), intent(in) :: mesh          !< b_m, 1-based DOFs [m/m, m/rad]
+    real(dp), intent(in) :: mean_stiffness(:)      !< kbar_m [N/m]
+    real(dp), intent(in) :: k_new(:)               !< mesh stiffness for the factor [N/m]
+    integer(ik), intent(out) :: bad                !< failing column (1-based), 0 none [-]
+    integer(ik), intent(out) :: ierr               !< error code (0 = ok)
+    type(sparse_factor) :: factor
+    real(dp), allocatable :: values(:)
+    integer(ik) :: m, p, r, i, j, position, info
+
+    bad = 0
+    values = ops%khat
+    do m = 1, size(k_new)
+      if (k_new(m) == mean_stiffness(m)) cycle
+      do p = mesh%ptr(m) + 1, mesh%ptr(m + 1)
+        do r = mesh%ptr(m) + 1, mesh%ptr(m + 1)
+          i = mesh%index(r)
+          j = mesh%index(p)
+          if (i < j) cycle
+          position = pattern_position(ops, i, j)
+          if (position == 0) then  ! a mesh coupling outside the pattern
+            ierr = so_err_pattern
+            return
+          end if
+          values(position) = values(position) + (k_new(m) - mean_stiffness(m)) &
+                             * mesh%value(r) * mesh%value(p)
+        end do
+      end do
+    end do
+    factor = ops%khat_factor  ! a copy of the handle: the refactor is behind it
+    call sparse_factor_refactor(factor, values, bad, info)
+    if (info /= sp_ok) then
+      ierr = translate(info, so_err_definite)
+      return
+    end if
+    ops%factor_stiffness = k_new
+    ierr = so_ok
+  end subroutine refactor_khat
+
+  !> Position (1-based) of the entry (row i, column j), i >= j, in the pattern; 0 if absent.
+  pure integer(ik) function pattern_position(ops, i, j)
+    type(sparse_operators), intent(in) :: ops  !< the pattern
+    integer(ik), intent(in) :: i               !< row, 1-based [-]
+    integer(ik), intent(in) :: j               !< column, 1-based [-]
+    integer(ik) :: low, high, middle
+
+    pattern_position = 0
+    low = ops%column_start(j) + 1
+    high = ops%column_start(j + 1)
+    do while (low <= high)  ! rows increase within a column
+      middle = (low + high) / 2
+      if (ops%row_index(middle) + 1 == i) then
+        pattern_position = middle
+        return
+      else if (ops%row_index(middle) + 1 < i) then
+        low = middle + 1
+      else
+        high = middle - 1
+      end if
+    end do
+  end function pattern_position
 
   !> rhs = Khat^-1 rhs with the factor at mean mesh stiffness.
   subroutine solve_khat(ops, rhs, ierr)

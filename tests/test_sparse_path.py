@@ -81,18 +81,24 @@ def test_sparse_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
     [
         {"equivalent_load": "iterate", "restart_at_jumps": True},
         {"integrator": "generalized-alpha"},
+        {"equivalent_load": "refactor"},
+        {"integrator": "generalized-alpha", "equivalent_load": "refactor"},
     ],
-    ids=["iterate-restart", "generalized-alpha"],
+    ids=["iterate-restart", "generalized-alpha", "refactor", "generalized-alpha-refactor"],
 )
 def test_sparse_and_banded_agree_in_the_other_modes(study_case, monkeypatch, changes):
     """The restarts solve with M's CHOLMOD factor, the generalized-alpha scheme adds the
-    alpha_m M a_n product on the sparse pattern: both paths within the round-off bound,
-    or the iteration tolerance accumulated like round-off (as in tests/test_dense_path.py)."""
+    alpha_m M a_n product on the sparse pattern, and a refactor adds the meshes'
+    stiffness changes b_m b_m^T to Khat on the pattern and refactors numerically (the
+    banded path factors anew): both paths within the round-off bound, or the iteration
+    tolerance accumulated like round-off (as in tests/test_dense_path.py)."""
     scene = short_scene(study_case, "runup", 0.05, mean_window=0.02, **changes)
     runs = run_on_paths(monkeypatch, study_case, scene, PATHS)
     banded, sparse = (runs[path] for path in PATHS)
     if changes.get("restart_at_jumps"):
         assert banded.attrs["solver_restarts"] > 0 and sparse.attrs["solver_restarts"] > 0
+    if changes.get("equivalent_load") == "refactor":
+        assert sparse.attrs["solver_refactors"] == banded.attrs["solver_refactors"] > 0
     iteration = 10.0 * math.sqrt(banded.attrs["steps"]) * banded.attrs["tolerance"]
     tolerance = max(study_roundoff(study_case, banded), iteration)
     assert_channels_agree(
@@ -101,17 +107,6 @@ def test_sparse_and_banded_agree_in_the_other_modes(study_case, monkeypatch, cha
         tolerance,
         {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"},
     )
-
-
-def test_refactor_mode_is_refused_on_the_sparse_path(study_case, monkeypatch):
-    """The sparse path keeps one factor of Khat: refactoring is refused before any work,
-    with the way out named."""
-    monkeypatch.setenv(LINEAR_SOLVER_VARIABLE, "sparse_cholesky")
-    from pygear.analysis.transient import run_transient
-
-    scene = short_scene(study_case, "runup", 0.01, equivalent_load="refactor")
-    with pytest.raises(ValueError, match="refactor.*banded"):
-        run_transient(study_case, scene)
 
 
 def _chain(n: int, spring: float = 1.0e6, mass: float = 2.0, grounded: bool = True):
@@ -180,9 +175,6 @@ def test_automatic_choice_by_the_entries_a_step_reads(monkeypatch):
     assert storage.linear_solver == "sparse_cholesky"
     assert "CHOLMOD factor" in storage.reason and "reads" in storage.reason
     assert SPARSE_OVERHEAD > 1.0
-    # refactoring needs a banded factor whatever the counts
-    refactor = kernel_storage(mass, 0 * mass, stiffness + ties.tocsc(), None, refactor=True)
-    assert refactor.linear_solver == "banded_cholesky"
 
 
 def test_sparse_storage_holds_the_matrices_exactly(monkeypatch):

@@ -276,7 +276,6 @@ class BandedNewmark:
             stiffness,
             self.meshes.deflection if self.meshes is not None else None,
             linear_solver,
-            refactor=self.equivalent_load == "refactor",
         )
         self.order = storage.order
         self.position = np.empty(n, dtype=int)
@@ -285,12 +284,6 @@ class BandedNewmark:
         self.linear_solver, self.linear_solver_reason = storage.linear_solver, storage.reason
         self.bands = storage.bands
         self.sparse_arguments = storage.sparse
-        if self.linear_solver == "sparse_cholesky" and self.equivalent_load == "refactor":
-            raise ValueError(
-                "equivalent_load 'refactor' needs the banded or dense path: the sparse path "
-                "keeps one CHOLMOD factor of Khat (use 'iterate', or linear_solver="
-                "'banded_cholesky')"
-            )
 
         c = self.coefficients
         self.rparam = np.array(

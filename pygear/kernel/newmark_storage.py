@@ -16,7 +16,8 @@ analysis of the pattern), and the products over the pattern, nnz(P).  The sparse
 runs when :data:`SPARSE_OVERHEAD` (nnz(L) + nnz(P)) <= 2 n (kd + 1): its indexed
 loads cost about a quarter more per entry than the band's (a spring chain, for which
 both read the same count, runs 3 to 16 % slower sparse; ``benchmarks/bench_sparse_path.py``).
-Equivalent-load mode ``refactor`` and a build without CHOLMOD keep the banded path.
+A build without CHOLMOD keeps the banded path.  In equivalent-load mode ``refactor`` the
+sparse path refactors numerically on its pattern, which holds the meshes' couplings.
 Dense input is turned into the pattern with NumPy alone, so gear-stage models do not
 load SciPy's sparse package.
 """
@@ -84,8 +85,6 @@ def kernel_storage(
     stiffness: object,
     deflection: np.ndarray | None,
     requested: str = "auto",
-    *,
-    refactor: bool = False,
 ) -> KernelStorage:
     """Order and store M, C, K0 (dense arrays or SciPy sparse matrices) for the kernel.
 
@@ -99,17 +98,15 @@ def kernel_storage(
         ``auto``, ``banded_cholesky``, ``dense_inverse`` or ``sparse_cholesky``; the
         environment variable :data:`~pygear.kernel.newmark_support.LINEAR_SOLVER_VARIABLE`
         overrides it.
-    refactor : bool
-        The run refactors Khat (equivalent-load mode ``refactor``): banded paths only.
     """
     choice, forced = requested_linear_solver(requested)
     n = int(mass.shape[0])
-    lower = _lower_pattern(mass, damping, stiffness)
+    lower = _lower_pattern(mass, damping, stiffness, deflection)
     if choice == SPARSE_SOLVER:
         source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else "linear_solver"
         reason = f"forced by {source} ({n} DOFs, {lower[1].size} stored entries)"
         return _sparse_storage(mass, damping, stiffness, lower, reason)
-    if choice == "auto" and not refactor:
+    if choice == "auto":
         order, kd = _band_order(n, lower, deflection)
         factor_entries = _factor_entries(n, *lower)
         if factor_entries is not None:
@@ -127,10 +124,8 @@ def kernel_storage(
     else:
         order, kd = _band_order(n, lower, deflection)
     storage = _band_storage((mass, damping, stiffness), order, kd, requested)
-    if choice == "auto" and not refactor and factor_entries is not None:
+    if choice == "auto" and factor_entries is not None:
         storage.reason += f"; the banded step reads less than the sparse one ({shape})"
-    elif choice == "auto" and refactor:
-        storage.reason += "; equivalent_load 'refactor' needs a banded path"
     return storage
 
 
@@ -169,11 +164,17 @@ def _triplets(matrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return rows, columns, dense[rows, columns]
 
 
-def _lower_pattern(mass, damping, stiffness) -> tuple[np.ndarray, np.ndarray]:
+def _lower_pattern(mass, damping, stiffness, deflection=None) -> tuple[np.ndarray, np.ndarray]:
     """0-based CSC column pointers and rows of the lower triangle (diagonal included) of
-    the union of the three matrices' patterns and its transpose."""
+    the union of the three matrices' patterns, its transpose and the meshes' couplings
+    b_m b_m^T (a refactor adds them)."""
     n = int(mass.shape[0])
     rows, columns = [np.arange(n)], [np.arange(n)]
+    for row in () if deflection is None else np.asarray(deflection):
+        (dofs,) = np.nonzero(row)
+        i, j = np.meshgrid(dofs, dofs, indexing="ij")
+        rows += [np.maximum(i, j).ravel()]
+        columns += [np.minimum(i, j).ravel()]
     for matrix in (mass, damping, stiffness):
         i, j, _ = _triplets(matrix)
         rows += [np.maximum(i, j)]
