@@ -206,19 +206,30 @@ def test_speeds_keep_1e9_of_their_value(steady, steps):
 
 
 def test_no_drift_with_the_growing_angles(steady):
-    """Ten times the steps, ten times the angle, and the errors do not follow.  Errors
-    that grew with the absolute angle would grow ten times; round-off alone adds like a
-    random walk (conftest.roundoff_tolerance), at most sqrt(10) times over ten times the
-    steps, and less where the mass-proportional damping holds it stationary.  The bound,
-    10^0.75 = 5.6, lies between the two on a log scale.  (Measured: 1.1 and 2.8 times
-    on the banded and the sparse path; the short run's round-off sample differs between
-    the two factorizations, the long run's level does not: 7.0e-11 and 8.0e-11.)"""
-    short, long = _errors(steady, SHORT), _errors(steady, LONG)
-    growth = LONG / SHORT
-    assert long["angle"] / short["angle"] == pytest.approx(growth, rel=1e-3)
-    bound = growth**0.75
-    assert long["deflection_relative"] <= bound * short["deflection_relative"]
-    assert long["speed_relative"] <= bound * short["speed_relative"]
+    """Ten times the angle, and the errors do not follow.  Over the long run's first
+    tenth (to the short run's angle) and its last tenth (ten times that angle), the
+    largest deflection and carrier-speed errors of the recorded samples (100 in each,
+    the same number, so the two maxima are alike draws of the round-off) stay within
+    10^0.75 = 5.6 of each other: errors that grew with the absolute angle would be ten
+    times larger in the last tenth, while round-off alone adds like a random walk
+    (conftest.roundoff_tolerance), at most sqrt(10) times, and stays stationary where the
+    mass-proportional damping restores the speed.  (The final state alone is one draw:
+    its speed error varies tenfold between builds, 1.6e-12 to 2.9e-11.)"""
+    run = steady["runs"][LONG]["result"]
+    short = _errors(steady, SHORT)
+    n_mesh = len(steady["model"].meshes)
+    deflection = np.abs(run.samples[:n_mesh] - steady["deflection"][:, None]).max(axis=0)
+    speed = np.abs(run.samples[-2] - CARRIER_RPM)
+    tenth = (run.samples.shape[1] - 1) // 10
+    first, last = slice(1, tenth + 1), slice(-tenth, None)
+    angle_first = steady["omega"] * SHORT * steady["problem"].solver.time_step
+    assert _errors(steady, LONG)["angle"] / short["angle"] == pytest.approx(10.0, rel=1e-3)
+    assert short["angle"] == pytest.approx(
+        angle_first * float(np.abs(steady["rigid"]).max()), rel=0.05
+    )
+    bound = 10.0**0.75
+    assert deflection[last].max() <= bound * deflection[first].max()
+    assert speed[last].max() <= bound * speed[first].max()
 
 
 def test_final_state_keeps_the_absolute_angles(steady):
