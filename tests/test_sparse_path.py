@@ -248,3 +248,24 @@ def test_ten_thousand_dof_drivetrain_modes_and_steps():
     omega_h = (2.0 / dt) * math.atan(omega * dt / 2.0)
     expected = shape[probe_dof] * np.cos(omega_h * run.time)
     assert np.abs(run.samples[0] - expected).max() <= 1e-6 * abs(shape[probe_dof])
+
+
+def test_without_cholmod_the_banded_path_carries_everything(monkeypatch):
+    """A build without SuiteSparse: the automatic choice falls back to the banded path
+    (and says nothing of CHOLMOD's counts), and asking for the sparse path by name is a
+    one-line error naming the remedy, before any work."""
+    import pygear.kernel.newmark_storage as storage
+
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    monkeypatch.setattr(storage, "cholmod_available", lambda: False)
+    mass, stiffness = _chain(400)
+    ties = scipy.sparse.lil_matrix((400, 400))
+    for k in range(10, 400, 10):
+        ties[0, 0] += 1.0
+        ties[k, k] += 1.0
+        ties[0, k] = ties[k, 0] = -1.0
+    chosen = kernel_storage(mass, 0 * mass, stiffness + ties.tocsc(), None)
+    assert chosen.linear_solver == "banded_cholesky"
+    assert "CHOLMOD" not in chosen.reason
+    with pytest.raises(ValueError, match="no CHOLMOD.*libsuitesparse-dev"):
+        kernel_storage(mass, 0 * mass, stiffness, None, "sparse_cholesky")

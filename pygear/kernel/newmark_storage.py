@@ -36,7 +36,13 @@ from .newmark_support import (
     requested_linear_solver,
 )
 
-__all__ = ["SPARSE_OVERHEAD", "KernelStorage", "is_sparse_matrix", "kernel_storage"]
+__all__ = [
+    "SPARSE_OVERHEAD",
+    "KernelStorage",
+    "cholmod_available",
+    "is_sparse_matrix",
+    "kernel_storage",
+]
 
 SPARSE_SOLVER = "sparse_cholesky"
 
@@ -104,6 +110,12 @@ def kernel_storage(
     lower = _lower_pattern(mass, damping, stiffness, deflection)
     if choice == SPARSE_SOLVER:
         source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else "linear_solver"
+        if not cholmod_available():
+            raise ValueError(
+                f"{source} asks for the sparse path, and this build of pygear has no CHOLMOD: "
+                "install SuiteSparse (Debian: libsuitesparse-dev) and rebuild, or use "
+                "banded_cholesky"
+            )
         reason = f"forced by {source} ({n} DOFs, {lower[1].size} stored entries)"
         return _sparse_storage(mass, damping, stiffness, lower, reason)
     if choice == "auto":
@@ -214,11 +226,16 @@ def _band_order(n: int, lower, deflection) -> tuple[np.ndarray, int]:
     return order, band_half_width(pattern, order)
 
 
+def cholmod_available() -> bool:
+    """Whether the kernel was built with CHOLMOD (the sparse path and its analysis)."""
+    flag = getattr(_kernel, "sparse_cholesky_available_flag", None)
+    return flag is not None and int(flag()) == 1
+
+
 def _factor_entries(n: int, column_start: np.ndarray, row: np.ndarray) -> int | None:
     """Entries of CHOLMOD's factor of a matrix with this pattern (its own ordering), from
     a diagonally dominant matrix on the pattern; None without CHOLMOD."""
-    flag = getattr(_kernel, "sparse_cholesky_available_flag", None)
-    if flag is None or int(flag()) != 1:
+    if not cholmod_available():
         return None
     column = np.repeat(np.arange(n), np.diff(column_start))
     off = row != column
