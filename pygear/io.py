@@ -261,12 +261,21 @@ def write_npz(path: str | os.PathLike, **arrays) -> Path:
     return path
 
 
-def save_figure(figure, path: str | os.PathLike, **options) -> Path:
-    """Save a matplotlib ``figure`` atomically; the format follows ``path``'s suffix."""
+def save_figure(figure, path: str | os.PathLike, *, release: bool = False, **options) -> Path:
+    """Save a matplotlib ``figure`` atomically; the format follows ``path``'s suffix.
+
+    With ``release`` the figure is emptied once saved, so its artists' memory is freed
+    now rather than when the garbage collector next finds the figure's reference cycles:
+    the four figures of a study-case run-up otherwise hold 13 MiB to the end of the
+    process, and the run's peak memory with them.  The commands release every figure
+    they save.
+    """
     path = Path(path)
     options.setdefault("format", path.suffix.lstrip(".").lower() or "png")
     with atomic_path(path) as temporary:
         figure.savefig(temporary, **options)
+    if release:
+        figure.clear()
     return path
 
 

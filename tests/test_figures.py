@@ -444,3 +444,14 @@ def test_accuracy_pareto(study, drawn, tmp_path):
         scenes=("scene runup",),
         formulations=("improved",),
     )
+
+
+@pytest.mark.parametrize("release", [False, True])
+def test_save_figure_releases_only_when_asked(release, tmp_path):
+    """A released figure is emptied once its file is written (its memory freed then, not
+    at the next garbage collection); without ``release`` the caller keeps its figure."""
+    figure = Figure(figsize=(2, 2), dpi=50)
+    figure.add_subplot().plot([0, 1], [1, 0])
+    path = save_figure(figure, tmp_path / "released.png", release=release)
+    assert path.read_bytes().startswith(b"\x89PNG")
+    assert len(figure.axes) == (0 if release else 1)

@@ -73,7 +73,9 @@ def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
     written.append(table)
     for formulation in ds.formulation.values.tolist():
         figure = plot_pareto(ds, formulation)
-        written.append(save_figure(figure, out / f"{stem}_{formulation}.png", dpi=figure.dpi))
+        written.append(
+            save_figure(figure, out / f"{stem}_{formulation}.png", dpi=figure.dpi, release=True)
+        )
     return written
 
 

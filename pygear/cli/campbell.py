@@ -193,7 +193,7 @@ def _campbell(args: argparse.Namespace) -> int:
         title=f"Campbell diagram of {case.name} over the speed of {campbell.attrs['reference']}",
     )
     drawing = plot_campbell(campbell)
-    figure = save_figure(drawing, out / "campbell.png", dpi=drawing.dpi)
+    figure = save_figure(drawing, out / "campbell.png", dpi=drawing.dpi, release=True)
     summary = campbell_summary(campbell)
     if args.json:
         print(json_text({**summary, "files": [str(path), str(figure)]}))

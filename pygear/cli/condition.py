@@ -224,7 +224,7 @@ def _figures(average, stem: Path, summary: dict, run, kurtogram=None) -> list[st
             *kurtogram, title=f"kurtogram of {summary['channel']}: {source}"
         )
     for path, figure in figures.items():
-        save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
+        save_figure(figure, path, dpi=figure.dpi, release=True)  # atomic: no half-written figure
     return [str(path) for path in figures]
 
 

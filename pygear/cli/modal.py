@@ -284,7 +284,7 @@ def _sensitivity(args: argparse.Namespace) -> int:
         title=f"Natural frequencies of {case.name} against {args.parameter}",
     )
     drawing = plot_frequency_sweep(sweep)
-    figure = save_figure(drawing, out / f"{stem}.png", dpi=drawing.dpi)
+    figure = save_figure(drawing, out / f"{stem}.png", dpi=drawing.dpi, release=True)
     if args.json:
         print(
             json_text(

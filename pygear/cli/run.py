@@ -350,7 +350,7 @@ def _compare_transients(transients: dict, out: Path) -> Path:
     from ..plots.transient import plot_speeds
 
     figure = plot_speeds(list(transients.values()))
-    return save_figure(figure, out / "transient_speeds.png", dpi=figure.dpi)
+    return save_figure(figure, out / "transient_speeds.png", dpi=figure.dpi, release=True)
 
 
 HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {

@@ -544,7 +544,7 @@ def _trend_figure(combined: xr.Dataset, path: Path, plan: DatasetPlan) -> None:
         indicators=("fm4", "na4_trend", "fm0", "energy_ratio"),
         title=f"{plan.case.name}: {plan.kind} on {plan.gear} tooth {plan.tooth}",
     )
-    save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
+    save_figure(figure, path, dpi=figure.dpi, release=True)  # atomic: no half-written figure
 
 
 def combine_records(paths: Sequence[Path]) -> xr.Dataset:

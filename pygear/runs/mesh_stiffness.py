@@ -118,4 +118,4 @@ def _write(
         input_hash=case.input_hash(),
     )
     figure = plot_mesh_stiffness(dataset, scene=scene)
-    save_figure(figure, out_path.with_suffix(".png"), dpi=figure.dpi)
+    save_figure(figure, out_path.with_suffix(".png"), dpi=figure.dpi, release=True)

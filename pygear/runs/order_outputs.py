@@ -76,5 +76,5 @@ def write_order_tracking(
     )
     for plot, path in zip((plot_order_map, plot_order_spectrum, plot_order_slices), paths[1:]):
         figure = plot(result, run_attrs=run.attrs)
-        save_figure(figure, path, dpi=figure.dpi)  # atomic: no half-written figure
+        save_figure(figure, path, dpi=figure.dpi, release=True)  # atomic: no half-written figure
     return result, paths

@@ -78,7 +78,7 @@ def write_modal_outputs(
                 case, model, modal, mode, stage=stage.name
             )
     for name, drawing in drawings.items():
-        written.append(save_figure(drawing, directory / name, dpi=drawing.dpi))
+        written.append(save_figure(drawing, directory / name, dpi=drawing.dpi, release=True))
     return written
 
 
@@ -271,7 +271,7 @@ def _signal_figure(analysis, base: Path, run_attrs) -> Path:
     from ..plots.signal import plot_run_analysis  # Matplotlib loads only for a figure
 
     figure = plot_run_analysis(analysis, run_attrs=run_attrs)
-    return save_figure(figure, base.with_name(f"{base.name}.png"), dpi=figure.dpi)
+    return save_figure(figure, base.with_name(f"{base.name}.png"), dpi=figure.dpi, release=True)
 
 
 def acceleration_channels(dataset) -> list[str]:

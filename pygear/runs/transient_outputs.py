@@ -101,7 +101,7 @@ def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     from ..plots.transient import plot_speeds  # Matplotlib loads only for a figure
 
     figure = plot_speeds([dataset])
-    return save_figure(figure, target, dpi=figure.dpi)  # atomic: no half-written figure
+    return save_figure(figure, target, dpi=figure.dpi, release=True)  # atomic
 
 
 def write_load_figure(dataset: xr.Dataset, target: Path) -> Path | None:
@@ -112,7 +112,7 @@ def write_load_figure(dataset: xr.Dataset, target: Path) -> Path | None:
     from ..plots.transient import plot_loads  # Matplotlib loads only for a figure
 
     figure = plot_loads([dataset])
-    return save_figure(figure, target, dpi=figure.dpi)  # atomic: no half-written figure
+    return save_figure(figure, target, dpi=figure.dpi, release=True)  # atomic
 
 
 def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> list[Path]:
@@ -147,7 +147,7 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
             f"last {revolutions} carrier revolutions",
         )
         target = directory / f"{scene}_{channel_file_part(name)}_orders.png"
-        written.append(save_figure(figure, target, dpi=figure.dpi))
+        written.append(save_figure(figure, target, dpi=figure.dpi, release=True))
     return written
 
 
