@@ -264,7 +264,8 @@ def write_npz(path: str | os.PathLike, **arrays) -> Path:
 def save_figure(figure, path: str | os.PathLike, *, release: bool = False, **options) -> Path:
     """Save a matplotlib ``figure`` atomically; the format follows ``path``'s suffix.
 
-    With ``release`` the figure is emptied once saved, so its artists' memory is freed
+    With ``release`` the figure is emptied once saved and its canvas drops the renderer
+    that holds the pixels, so their memory is freed
     now rather than when the garbage collector next finds the figure's reference cycles:
     the four figures of a study-case run-up otherwise hold 13 MiB to the end of the
     process, and the run's peak memory with them.  The commands release every figure
@@ -276,6 +277,7 @@ def save_figure(figure, path: str | os.PathLike, *, release: bool = False, **opt
         figure.savefig(temporary, **options)
     if release:
         figure.clear()
+        vars(figure.canvas).pop("renderer", None)  # Agg's last renderer holds the pixels
     return path
 
 
