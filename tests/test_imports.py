@@ -2,7 +2,7 @@
 
 ``pygear --help`` loads no numerical library; the ``pygear modal`` table loads NumPy
 alone (xarray, NetCDF and Matplotlib only with ``--out``); a run loads no Dask (it
-computes without it), no ``scipy.signal`` and, with ``--no-figures``, no Matplotlib,
+computes without it), neither ``scipy.signal`` nor ``scipy.linalg`` and, with ``--no-figures``, no Matplotlib,
 and draws its figures only after every NetCDF file of the scene is written.  Module
 sets, never wall times: what a command imports is the same on any machine.
 """
@@ -100,7 +100,7 @@ def test_run_without_figures_loads_no_plotting_and_no_dask(short_case, tmp_path)
     top = _top_level(modules)
     assert {"xarray", "netCDF4", "pyfftw"} <= top  # it did run, analyse and write
     assert top & {"matplotlib", "dask", "distributed"} == set()
-    assert {"scipy.signal", "scipy.fftpack"} & modules == set()
+    assert {"scipy.signal", "scipy.fftpack", "scipy.linalg"} & modules == set()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["runup.nc", "spectra"]
     assert sorted(p.name for p in (tmp_path / "spectra").iterdir()) == [
         "runup_acceleration_planetary.ring.y.nc",

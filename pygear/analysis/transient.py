@@ -22,6 +22,7 @@ import xarray as xr
 
 from ..assembly.dof_rows import dof_row, rigid_rotation
 from ..assembly.effects import effect_attributes
+from ..assembly.eigen import generalized_eigh
 from ..assembly.matrices import Model, assemble
 from ..assembly.mesh_backlash import line_of_action_backlash
 from ..errors import CaseError
@@ -94,9 +95,7 @@ def static_mesh_deflections(
     if output_row is not None and np.any(output_row):
         k = k + 1e3 * np.abs(np.diag(k)).max() * np.outer(output_row, output_row)
     else:
-        import scipy.linalg
-
-        values, vectors = scipy.linalg.eigh(k, model.mass)
+        values, vectors = generalized_eigh(k, model.mass)
         rigid = vectors[:, rigid_body_mask(values)]
         force = force - model.mass @ rigid @ (rigid.T @ force)
     q = np.linalg.lstsq(k, force, rcond=None)[0]
@@ -349,19 +348,17 @@ def loaded_displacement(problem: TransientProblem) -> np.ndarray:
     gives the rigid-body acceleration at t = 0 and no elastic one (at mean mesh
     stiffness), so nothing swings.
     """
-    import scipy.linalg
-
     model, solver = problem.model, problem.solver
     state = solver.start(v0=problem.initial_velocity)
     drive, load = float(state["rstate"][1]), float(state["rstate"][2])
     force = drive * solver.input_weights - load * solver.output_weights
     stiffness = np.asarray(model.stiffness, dtype=np.float64)
     mass = np.asarray(model.mass, dtype=np.float64)
-    values, vectors = scipy.linalg.eigh(stiffness, mass)
+    values, vectors = generalized_eigh(stiffness, mass)
     rigid = vectors[:, rigid_body_mask(values)]
     relieved = force - mass @ rigid @ (rigid.T @ force)
     regularised = stiffness + mass @ rigid @ rigid.T @ mass
-    return scipy.linalg.solve(regularised, relieved, assume_a="sym")
+    return np.linalg.solve(regularised, relieved)
 
 
 def checkpoint_identity(problem: TransientProblem) -> str:

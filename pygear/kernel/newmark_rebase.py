@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from ..assembly.eigen import generalized_eigh
 from ..rigid_modes import rigid_body_mask
 
 __all__ = ["RigidRebase"]
@@ -69,10 +70,8 @@ class RigidRebase:
                 return
             self.mass = mass.tocsr()[order][:, order]
         else:
-            import scipy.linalg
-
             try:
-                values, vectors = scipy.linalg.eigh(stiffness, mass)
+                values, vectors = generalized_eigh(stiffness, mass)
             except (np.linalg.LinAlgError, ValueError):
                 return  # M not positive definite: no rebasing
             rigid = vectors[:, rigid_body_mask(values)]
