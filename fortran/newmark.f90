@@ -69,8 +69,7 @@ module newmark
   use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
   use flank_contact, only: flank_force_law, flank_compression, flank_coast
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
-  use newmark_problem, only: transient_problem, problem_multiply, matrix_mass, matrix_damping, &
-                            matrix_stiffness
+  use newmark_problem, only: transient_problem, problem_multiply, problem_restoring, matrix_mass
   use newmark_sparse, only: solve_khat, solve_mass, refactor_khat, so_ok
   use newmark_probes, only: record_probes
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
@@ -149,8 +148,7 @@ contains
     rhs = 0.0_dp
     call add_member(problem%members, 1, rstate(rs_drive), rhs)
     call add_member(problem%members, 2, -rstate(rs_load), rhs)
-    call problem_multiply(problem, matrix_damping, v, -1.0_dp, rhs)
-    call problem_multiply(problem, matrix_stiffness, q, -1.0_dp, rhs)
+    call problem_restoring(problem, v, q, rhs)
     if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
       call mesh_stiffness(q, delta, k_used, offset, ierr)
@@ -405,8 +403,7 @@ contains
         wc = (1.0_dp - alpha_f) * vt + alpha_f * v
         wk = (1.0_dp - alpha_f) * qt + alpha_f * q
         r0 = 0.0_dp
-        call problem_multiply(problem, matrix_damping, wc, -1.0_dp, r0)
-        call problem_multiply(problem, matrix_stiffness, wk, -1.0_dp, r0)
+        call problem_restoring(problem, wc, wk, r0)
         if (alpha_m /= 0.0_dp) call problem_multiply(problem, matrix_mass, a, -alpha_m, r0)
       end if
       if (alpha_f /= 0.0_dp .and. .not. dense) then
@@ -620,8 +617,7 @@ contains
         if (.not. single) call state_product()
       else
         r0 = 0.0_dp
-        call problem_multiply(problem, matrix_damping, vt, -1.0_dp, r0)
-        call problem_multiply(problem, matrix_stiffness, qt, -1.0_dp, r0)
+        call problem_restoring(problem, vt, qt, r0)
       end if
     end subroutine restart_acceleration
 

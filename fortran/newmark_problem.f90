@@ -32,13 +32,13 @@ module newmark_problem
                              band_multiply
   use newmark_dense, only: dense_columns, mean_operator
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
-                            symmetric_multiply, so_ok, so_err_definite, so_err_mass, &
+                            symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, so_err_mass, &
                             so_err_unavailable
   implicit none
   private
 
   public :: transient_problem, create_transient_problem, free_transient_problem, &
-            transient_problem_at, problem_multiply
+            transient_problem_at, problem_multiply, problem_restoring
   public :: matrix_mass, matrix_damping, matrix_stiffness
 
   integer(ik), parameter :: matrix_mass = 1       !< M, for problem_multiply
@@ -298,6 +298,23 @@ contains
       end select
     end if
   end subroutine problem_multiply
+
+  !> y = y - C v - K0 q, the damping and elastic forces at mean mesh stiffness; on the
+  !> sparse path both products in one pass over the pattern.
+  pure subroutine problem_restoring(problem, v, q, y)
+    type(transient_problem), intent(in) :: problem  !< a checked problem
+    real(dp), intent(in) :: v(problem%n)            !< velocities [m/s, rad/s]
+    real(dp), intent(in) :: q(problem%n)            !< displacements [m, rad]
+    real(dp), intent(inout) :: y(problem%n)         !< accumulator [N, N m]
+
+    if (problem%iparam(ip_solver) == solver_sparse) then
+      call symmetric_multiply_pair(problem%sparse, problem%sparse%damping, v, &
+                                   problem%sparse%stiffness, q, -1.0_dp, y)
+    else
+      call problem_multiply(problem, matrix_damping, v, -1.0_dp, y)
+      call problem_multiply(problem, matrix_stiffness, q, -1.0_dp, y)
+    end if
+  end subroutine problem_restoring
 
   !> The three band matrices are allocated with kd + 1 rows and n columns.
   pure logical function bands_fit(problem)

@@ -26,7 +26,7 @@ module newmark_sparse
   implicit none
   private
 
-  public :: sparse_operators, symmetric_multiply, pattern_fits, factor_operators, &
+  public :: sparse_operators, symmetric_multiply, symmetric_multiply_pair, pattern_fits, factor_operators, &
             free_operators, solve_khat, solve_mass, refactor_khat
   public :: so_ok, so_err_pattern, so_err_definite, so_err_mass, so_err_unavailable, so_err_solve
 
@@ -83,6 +83,37 @@ contains
       y(j) = y(j) + scale * column
     end do
   end subroutine symmetric_multiply
+
+  !> y = y + scale (A x + B z) for symmetric A and B stored as lower triangles on ops'
+  !> pattern: one pass over the pattern for the two products (C v + K0 q of every step).
+  pure subroutine symmetric_multiply_pair(ops, a_values, x, b_values, z, scale, y)
+    type(sparse_operators), intent(in) :: ops  !< the pattern
+    real(dp), intent(in) :: a_values(:)        !< A's entries on the pattern [units of A]
+    real(dp), intent(in) :: x(ops%n)           !< vector A multiplies [units of x]
+    real(dp), intent(in) :: b_values(:)        !< B's entries on the pattern [units of B]
+    real(dp), intent(in) :: z(ops%n)           !< vector B multiplies [units of z]
+    real(dp), intent(in) :: scale              !< factor on A x + B z [-]
+    real(dp), intent(inout) :: y(ops%n)        !< accumulator [units of A x]
+    integer(ik) :: i, j, p, first
+    real(dp) :: xj, zj, column
+
+    do j = 1, ops%n
+      xj = scale * x(j)
+      zj = scale * z(j)
+      first = ops%column_start(j) + 1
+      column = 0.0_dp
+      do p = first, ops%column_start(j + 1)
+        i = ops%row_index(p) + 1
+        if (i == j) then
+          column = column + a_values(p) * x(j) + b_values(p) * z(j)
+        else
+          y(i) = y(i) + a_values(p) * xj + b_values(p) * zj
+          column = column + a_values(p) * x(i) + b_values(p) * z(i)
+        end if
+      end do
+      y(j) = y(j) + scale * column
+    end do
+  end subroutine symmetric_multiply_pair
 
   !> The pattern is n + 1 non-decreasing pointers from 0 and, per column, increasing
   !> rows from the column down, and the three value arrays match it.
