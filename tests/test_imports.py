@@ -2,8 +2,9 @@
 
 ``pygear --help`` loads no numerical library; the ``pygear modal`` table loads NumPy
 alone (xarray, NetCDF and Matplotlib only with ``--out``); a run loads no Dask (it
-computes without it), neither ``scipy.signal`` nor ``scipy.linalg`` and, with ``--no-figures``, no Matplotlib,
-and draws its figures only after every NetCDF file of the scene is written.  Module
+computes without it), neither ``scipy.signal`` nor ``scipy.linalg`` and, with
+``--no-figures``, no Matplotlib, and draws its figures only after every NetCDF file of
+the scene is written.  Module
 sets, never wall times: what a command imports is the same on any machine.
 """
 
