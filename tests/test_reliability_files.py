@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -80,6 +81,22 @@ def run_file(short_case, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("short_run")
     assert main(["run", str(short_case), "--out", str(out), "--json"]) == 0
     return out / f"{SCENE}.nc"
+
+
+def test_run_states_the_most_it_will_write_before_it_starts(short_case, tmp_path, capsys):
+    """Before a transient scene runs, ``pygear run`` says how much its files take at most:
+    every channel and spectrum counted uncompressed, so the compressed files never exceed
+    it, and no less than the channels' own samples."""
+    assert main(["run", str(short_case), "--out", str(tmp_path), "--no-figures"]) == 0
+    stderr = capsys.readouterr().err
+    stated = re.search(rf"{SCENE}: result files of at most ([\d.]+) (kB|MB|GB)", stderr)
+    assert stated, stderr
+    estimate = float(stated[1]) * {"kB": 1e3, "MB": 1e6, "GB": 1e9}[stated[2]]
+    written = sum(p.stat().st_size for p in tmp_path.rglob("*.nc"))
+    with xr.open_dataset(tmp_path / f"{SCENE}.nc", decode_times=False) as run:
+        samples = sum(v.nbytes for v in run.data_vars.values() if "time" in v.dims)
+    assert samples <= estimate * 1.005  # the estimate is printed to three digits
+    assert written <= estimate
 
 
 def _copy_naming_case(run_file: Path, target: Path, case_reference: str) -> Path:

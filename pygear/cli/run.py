@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING
 
 from ..errors import CaseError
 from ..model.names import FORMULATIONS, LAWS
-from ..runs.progress import ProgressBar
+from ..resources import format_bytes
+from ..runs.progress import ProgressBar, progress_wanted
 from .modal import modal_summary
 
 if TYPE_CHECKING:
@@ -253,7 +254,8 @@ def _run(args: argparse.Namespace) -> int:
     case = base_case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
-    check_scenes(base_case, scenes, formulation=args.formulation, out=out)  # before any runs
+    # before any runs; the result files each transient scene will write at most
+    file_sizes = check_scenes(base_case, scenes, formulation=args.formulation, out=out)
     summary: dict = {"case": case.name, "scenes": {}}
     transients: dict = {}
     run_started = time.perf_counter()
@@ -281,6 +283,12 @@ def _run(args: argparse.Namespace) -> int:
             )
             entry["files"].append(str(path))
         if "transient" in scene.analyses:
+            if scene.name in file_sizes and not args.json and progress_wanted():
+                print(
+                    f"{scene.name}: result files of at most {format_bytes(file_sizes[scene.name])}"
+                    " (counted uncompressed; they are written compressed)",
+                    file=sys.stderr,
+                )
             try:
                 dataset, files = _run_transient(case, scene, model, out, args)
             except KeyboardInterrupt as interrupt:

@@ -21,7 +21,7 @@ def check_scenes(
     *,
     formulation: str | None = None,
     out: str | os.PathLike | None = None,
-) -> None:
+) -> dict[str, float]:
     """Every check of every scene that needs the assembled model, before any runs.
 
     Each scene's model is assembled and each transient set up (probe targets, members,
@@ -29,12 +29,18 @@ def check_scenes(
     scenes together, with their signal analyses, must fit on the disk of ``out`` (counted
     uncompressed: an upper bound of the compressed files).
 
+    Returns
+    -------
+    dict
+        Each transient scene's result files [bytes], uncompressed: what the run will
+        write at most, known before it starts.
+
     Raises
     ------
     CaseError
         Naming the scene's parameter and the rule, for the first scene that fails.
     """
-    files, counted = 0.0, []
+    files, counted, sizes = 0.0, [], {}
     for scene in scenes:
         scene_case = case.for_scene(scene)
         model = scene_model(scene_case, scene, formulation=formulation)
@@ -42,11 +48,12 @@ def check_scenes(
             continue
         problem = transient_problem(scene_case, scene, formulation=formulation, model=model)
         _, disk, what = transient_footprint(problem.settings, len(problem.probes))
-        files += disk
         if "signal" in scene.analyses:
             spectra, spectra_what = signal_footprint(problem.settings)
-            files += spectra
+            disk += spectra
             what = f"{what} and {spectra_what}"
+        files += disk
+        sizes[scene.name] = disk
         counted.append(f"{scene.name}: {what}, uncompressed")
     if out is not None and files:
         hint = FOOTPRINT_HINT
@@ -60,3 +67,4 @@ def check_scenes(
             "; ".join(counted) if len(counted) < 4 else f"{len(counted)} transient scenes",
             hint,
         )
+    return sizes
