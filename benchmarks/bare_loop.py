@@ -28,7 +28,10 @@ import numpy as np
 import scipy.linalg
 
 SOURCE = Path(__file__).resolve().parent / "bare_newmark.f90.in"
-VARIANTS = ("band", "inverse", "dense_blas", "dense_loop")
+CHOLMOD_SHIM = Path(__file__).resolve().parent.parent / "fortran" / "cholmod_shim.c"
+SUITESPARSE_INCLUDE = Path("/usr/include/suitesparse")
+"""Where Debian's libsuitesparse-dev puts cholmod.h (as meson.build looks for it)."""
+VARIANTS = ("band", "inverse", "dense_blas", "dense_loop", "sparse")
 """Linear solves of the bare loop (see bare_newmark.f90.in)."""
 
 
@@ -45,6 +48,8 @@ class LoopArrays:
     stiffness_band: np.ndarray
     factor: np.ndarray  # banded Cholesky factor of Khat
     inverse: np.ndarray  # Khat^-1
+    pattern: tuple  # CSC lower triangle (0-based pointers, rows) of M, C, K0 together
+    pattern_values: tuple  # C, K0 and Khat on the pattern
     fused: np.ndarray  # X, n x (2n + M + 2)
     arguments: dict  # the kernel's packed sparse rows of meshes, angles and members
     deflection: np.ndarray  # B, M x n
@@ -97,6 +102,9 @@ def loop_arrays(problem) -> LoopArrays:
     )
     table = solver.table
     drive, load = (arguments["law_param"][:, k] for k in range(2))
+    lower = np.tril((mass != 0) | (damping != 0) | (stiffness != 0))
+    columns, rows = np.nonzero(lower.T)  # column by column, rows ascending
+    column_start = np.concatenate([[0], np.cumsum(np.bincount(columns, minlength=n))])
     return LoopArrays(
         n=n,
         bandwidth=kd,
@@ -107,6 +115,8 @@ def loop_arrays(problem) -> LoopArrays:
         stiffness_band=solver.bands["stiffness"],
         factor=scipy.linalg.cholesky_banded(_band(khat, kd), lower=True),
         inverse=inverse,
+        pattern=(column_start.astype(np.int32), rows.astype(np.int32)),
+        pattern_values=(damping[rows, columns], stiffness[rows, columns], khat[rows, columns]),
         fused=fused,
         arguments=arguments,
         deflection=deflection,
@@ -240,9 +250,18 @@ def build(directory: Path) -> Path:
     source = directory / "bare_newmark.f90"
     source.write_text(SOURCE.read_text().replace("@BLAS_SYMBOL_PREFIX@", prefix))
     program = directory / "bare_newmark"
+    # the kernel's CHOLMOD shim, at the kernel's optimisation; without the headers it
+    # compiles to stubs that report "not available" and only the sparse variant fails
+    with_cholmod = (SUITESPARSE_INCLUDE / "cholmod.h").is_file()
+    shim = directory / "cholmod_shim.o"
     subprocess.run(
-        ["gfortran", "-O3", "-o", str(program), str(source), f"-L{lib_dir}", f"-l{library}",
-         f"-Wl,-rpath,{lib_dir}"],
+        ["gcc", "-O3", "-c", str(CHOLMOD_SHIM), "-o", str(shim)]
+        + (["-DPYGEAR_HAVE_CHOLMOD", f"-I{SUITESPARSE_INCLUDE}"] if with_cholmod else []),
+        check=True, capture_output=True, text=True, cwd=directory,
+    )
+    subprocess.run(
+        ["gfortran", "-O3", "-o", str(program), str(source), str(shim), f"-L{lib_dir}",
+         f"-l{library}", f"-Wl,-rpath,{lib_dir}"] + (["-lcholmod"] if with_cholmod else []),
         check=True, capture_output=True, text=True, cwd=directory,
     )
     return program
@@ -299,6 +318,9 @@ class BareLoop:
                 np.array(ptr, int32), np.array(index or [1], int32), np.array(value or [0.0]),
                 np.array([m + 1 for _, m in arrays.forces], int32),
                 arrays.initial_acceleration,
+                np.array([len(arrays.pattern[1])], int32),
+                *arrays.pattern,
+                *arrays.pattern_values,
             ):
                 np.asarray(block).ravel(order="F").tofile(handle)
 

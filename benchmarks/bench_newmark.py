@@ -10,13 +10,13 @@ and reporting medians:
   call; Python only between chunks), on the path the automatic choice takes (CHOLMOD's
   sparse factor for both cases) and forced onto the banded path and onto the dense
   inverse (``dense_inverse``, on request only);
-* the floors, the bare Fortran loops of the banded and dense-inverse algorithms that
-  this benchmark compiles (``bare_newmark.f90.in`` through ``bare_loop.py``: gfortran
-  -O3, linked against the same scipy-openblas32 OpenBLAS, the same channels recorded
-  every step, one fused dgemv per step for the dense inverse, band products and dpbtrs
-  for the banded one).  No bare loop is built against CHOLMOD: the default path is
-  compared with the bare dense-inverse loop, the fastest algorithm there is at these
-  sizes (but not backward stable, hence not the default);
+* the floors, the bare Fortran loops of the three algorithms that this benchmark
+  compiles (``bare_newmark.f90.in`` through ``bare_loop.py``: gfortran -O3, linked
+  against the same scipy-openblas32 OpenBLAS, the same channels recorded every step):
+  CHOLMOD's solve through the kernel's own C shim after one pass over the CSC pattern
+  for C v + K0 q; band products and dpbtrs; one fused dgemv per step for the dense
+  inverse (the fastest algorithm at these sizes, but not backward stable, hence not the
+  default);
 * a fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a precomputed
   dense inverse, two fused matrix-vector products per step, the same channels);
 * each as a ratio to the kernel of the same repeat (median of the ratios); the three
@@ -150,6 +150,8 @@ def main() -> None:
         "bare loop, dense inverse": lambda: (bare.run("dense_blas").cpu_us_per_step, None),
         "fused NumPy loop": lambda: (_numpy_cpu_us(arrays, args.numpy_steps), None),
     }
+    if solver.linear_solver == "sparse_cholesky":  # built with CHOLMOD: its floor too
+        rows["bare loop, CHOLMOD"] = lambda: (bare.run("sparse").cpu_us_per_step, None)
     times: dict[str, list[float]] = {name: [] for name in rows}
     wall: dict[str, list[float]] = {name: [] for name in rows if name.startswith("kernel")}
     for _ in range(args.repeats):  # alternating, so that every repeat sees the same machine
@@ -169,6 +171,11 @@ def main() -> None:
             line += f"   (wall clock {statistics.median(wall[name]):.3f})"
         print(line)
     print("ratios, medians over the repeats:")
+    if "bare loop, CHOLMOD" in times:
+        print(
+            f"  kernel (CHOLMOD) / bare CHOLMOD loop        "
+            f"{ratio('kernel', 'bare loop, CHOLMOD'):6.2f}"
+        )
     print(
         f"  banded kernel / bare banded loop            "
         f"{ratio('kernel, banded path', 'bare loop, banded'):6.2f}"
