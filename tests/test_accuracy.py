@@ -204,12 +204,16 @@ def test_a_diverging_rung_is_recorded_not_raised(study_case):
 
 @pytest.mark.slow
 def test_time_varying_order_is_measured(study_case):
-    """With time-varying stiffness the order is measured (finite) and stored, not assumed."""
+    """With time-varying stiffness the order is measured (finite) and stored, not assumed,
+    from the judged metrics alone: the study case's ring acceleration is round-off (its
+    planets are in phase), so its peaks converge to nothing and their "orders" are random
+    numbers of the build; they once set the median.  Five halvings from the paper's step
+    reach the asymptotic range (four do not: t_s and the mesh forces still scatter)."""
     study = AccuracyStudy(
         duration=0.5,
         mean_window=0.2,
         coarsest_time_step=2.5e-5,
-        levels=4,
+        levels=5,
         repeats=1,
         sample_rate=40e3,
         signal_after=0.2,
@@ -219,5 +223,8 @@ def test_time_varying_order_is_measured(study_case):
         equivalent_loads=("refactor",),
     )
     ds = accuracy_study(study_case, study_case.scene("runup"), study)
+    ring_peaks = [str(m) for m in ds.metric.values if "planetary.ring.y" in str(m)]
+    assert ring_peaks and not ds.judged.sel(metric=ring_peaks).any()
     order = float(ds.observed_order_median.isel(formulation=0, fidelity=0))
-    assert np.isfinite(order) and 0.5 < order < 4.0
+    assert np.isfinite(order) and 0.5 < order < 4.0  # Newmark's 2, lowered by the stiffness'
+    # jumps between tooth pairs (1.7 here; 0.65-2.7 over the judged metrics)
