@@ -32,8 +32,8 @@ module newmark_problem
                              band_multiply
   use newmark_dense, only: dense_columns, mean_operator
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
-                            symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, so_err_mass, &
-                            so_err_unavailable
+                            symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, &
+                            so_err_mass, so_err_unavailable
   implicit none
   private
 

@@ -26,8 +26,8 @@ module newmark_sparse
   implicit none
   private
 
-  public :: sparse_operators, symmetric_multiply, symmetric_multiply_pair, pattern_fits, factor_operators, &
-            free_operators, solve_khat, solve_mass, refactor_khat
+  public :: sparse_operators, symmetric_multiply, symmetric_multiply_pair, pattern_fits, &
+            factor_operators, free_operators, solve_khat, solve_mass, refactor_khat
   public :: so_ok, so_err_pattern, so_err_definite, so_err_mass, so_err_unavailable, so_err_solve
 
   integer(ik), parameter :: so_ok = 0               !< success
@@ -94,15 +94,14 @@ contains
     real(dp), intent(in) :: z(ops%n)           !< vector B multiplies [units of z]
     real(dp), intent(in) :: scale              !< factor on A x + B z [-]
     real(dp), intent(inout) :: y(ops%n)        !< accumulator [units of A x]
-    integer(ik) :: i, j, p, first
+    integer(ik) :: i, j, p
     real(dp) :: xj, zj, column
 
     do j = 1, ops%n
       xj = scale * x(j)
       zj = scale * z(j)
-      first = ops%column_start(j) + 1
       column = 0.0_dp
-      do p = first, ops%column_start(j + 1)
+      do p = ops%column_start(j) + 1, ops%column_start(j + 1)
         i = ops%row_index(p) + 1
         if (i == j) then
           column = column + a_values(p) * x(j) + b_values(p) * z(j)
