@@ -1,7 +1,7 @@
 """The references of ``bench_newmark.py``: the kernel's step as plain arrays, a fused
 NumPy loop over them, and the bare Fortran loop ``bare_newmark.f90.in``.
 
-:func:`loop_arrays` takes a run-up problem of :mod:`pygear.analysis.transient` (average
+:func:`loop_arrays` takes a run-up problem of :mod:`pygear.analysis.time.transient` (average
 acceleration, equivalent load at the predictor, parabola or helical contact law, a
 constant drive and the speed-power load) and returns what one step needs, in the
 kernel's DOF order, including the fused operator X = s Khat^-1 [-C, -K0, w_in, -w_out,

@@ -24,8 +24,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from timing import median_seconds  # noqa: E402
 
 from pygear import load_case  # noqa: E402
-from pygear.analysis.accuracy import load_accuracy_study  # noqa: E402
-from pygear.analysis.transient import run_transient  # noqa: E402
+from pygear.analysis.time.accuracy import load_accuracy_study  # noqa: E402
+from pygear.analysis.time.transient import run_transient  # noqa: E402
 from pygear.io import open_dataset  # noqa: E402
 from pygear.runs.accuracy import accuracy_study  # noqa: E402
 

@@ -73,7 +73,7 @@ def solver_seconds(path: Path) -> float:
 def figure_costs(run_file: Path, scratch: Path, repeats: int) -> list[tuple[str, float]]:
     """Seconds to draw each figure ``pygear run`` draws for a run-up, from its file;
     the first row is Matplotlib's import (with pyplot and the Agg backend)."""
-    from pygear.analysis.analyze import analyze_channel
+    from pygear.analysis.signals.analyze import analyze_channel
     from pygear.io import open_dataset
     from pygear.model.case import SIGNAL_AFTER
     from pygear.runs.outputs import acceleration_channels, stored_references

@@ -45,7 +45,7 @@ import numpy as np
 from timing import median_seconds
 
 from pygear import load_case
-from pygear.analysis.transient import TransientProblem, transient_problem
+from pygear.analysis.time.transient import TransientProblem, transient_problem
 from pygear.assembly.mesh_laws import _bore, _resolve, gears_swapped, mesh_law, with_mesh_law
 from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
 from pygear.assembly.tooth_stiffness import ToothBody, mesh_stiffness

@@ -15,7 +15,7 @@ import scipy.linalg
 from timing import median_seconds
 
 from pygear import load_case
-from pygear.analysis.modal import modal_analysis
+from pygear.analysis.modes.modal import modal_analysis
 from pygear.assembly import assemble
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"

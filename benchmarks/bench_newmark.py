@@ -47,7 +47,7 @@ import numpy as np
 from bare_loop import BareLoop, loop_arrays, numpy_fused
 
 from pygear import Probe, load_case
-from pygear.analysis.transient import transient_problem
+from pygear.analysis.time.transient import transient_problem
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 
 CASES = {  # case, scene, the speed and mesh-force channels of the memory runs

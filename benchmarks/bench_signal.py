@@ -1,6 +1,6 @@
 """Benchmark: amplitude spectrum + envelope of a long record.
 
-Compares, in one run, pygear.analysis.signal (FFTW through pyFFTW, cached plans) with
+Compares, in one run, pygear.analysis.signals.signal (FFTW through pyFFTW, cached plans) with
 numpy.fft (rfft + a hand-built analytic signal) and scipy (scipy.fft.rfft +
 scipy.signal.hilbert).  Each timing is the median of ``--repeats`` runs after
 one warm-up run (which, for pygear, builds the plans; its time is shown apart).
@@ -22,7 +22,7 @@ import scipy.fft
 import scipy.signal
 import xarray as xr
 
-from pygear.analysis import signal as ps
+from pygear.analysis.signals import signal as ps
 
 
 def hann(length: int) -> np.ndarray:
@@ -106,7 +106,7 @@ def main() -> None:
     ps.clear_plan_cache()
     rows = [
         (
-            "pygear.analysis.signal (FFTW)",
+            "pygear.analysis.signals.signal (FFTW)",
             *median_seconds(lambda: with_pygear(signal, options.threads), options.repeats),
         ),
         ("numpy.fft", *median_seconds(lambda: with_numpy(values), options.repeats)),

@@ -105,7 +105,7 @@ def modal_time(mass, stiffness, modes: int, repeats: int) -> tuple:
     """Median time of the first ``modes`` modes with CHOLMOD and with SciPy's splu [s]."""
     import scipy.sparse.linalg
 
-    from pygear.analysis.sparse_modal import sparse_modes
+    from pygear.analysis.modes.sparse_modal import sparse_modes
 
     def cholmod():
         return sparse_modes(stiffness, mass, modes=modes)
@@ -143,7 +143,7 @@ def scene_step_times(repeats: int) -> None:
     import dataclasses
 
     from pygear import load_case
-    from pygear.analysis.transient import run_transient, transient_problem
+    from pygear.analysis.time.transient import run_transient, transient_problem
     from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 
     scenes = (
@@ -275,7 +275,7 @@ def main() -> None:
     weights[n // 2] = 1.0
     result = newmark.run(1000, [KernelProbe("middle", "displacement", weights)])
     whole = time.perf_counter() - started
-    from pygear.analysis.sparse_modal import sparse_modes
+    from pygear.analysis.modes.sparse_modal import sparse_modes
 
     started = time.perf_counter()
     sparse_modes(stiffness, mass, modes=30)

@@ -32,7 +32,7 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 from timing import median_seconds
 
-from pygear.analysis.sparse_modal import sparse_modes
+from pygear.analysis.modes.sparse_modal import sparse_modes
 from pygear.kernel import _kernel
 from pygear.kernel.sparse_cholesky import SparseCholesky, sparse_cholesky_available
 

@@ -106,7 +106,7 @@ RELATIVE_ROLE = re.compile(r":(mod|func|class|data|meth|attr|exc):`\.([A-Za-z_][
 
 
 def absolute_references(app, what, name, obj, options, lines: list[str]) -> None:
-    """Make ``:mod:`.signal``` absolute (``pygear.analysis.signal`` in the analysis
+    """Make ``:mod:`.signal``` absolute (``pygear.analysis.signals.signal`` in the analysis
     package): Sphinx takes a leading dot as "any name ending so", and pygear has a
     ``signal`` module in more than one package."""
     module = name if what == "module" else getattr(obj, "__module__", None) or name

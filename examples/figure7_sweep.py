@@ -20,7 +20,7 @@ import xarray as xr
 from distributed import LocalCluster
 
 from pygear import load_case
-from pygear.analysis.sensitivity import frequency_sweep
+from pygear.analysis.modes.sensitivity import frequency_sweep
 from pygear.plots.modal import plot_frequency_sweep
 from pygear.runs.sweep import run_sweep
 

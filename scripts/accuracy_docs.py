@@ -32,7 +32,7 @@ def _study(case: str, scene: str, extra: list[str], workers: int):
 
 
 def _section(title: str, ds, text: str, formulations: list[str]) -> list[str]:
-    from pygear.analysis.accuracy_report import quantity_recommendations
+    from pygear.analysis.time.accuracy_report import quantity_recommendations
 
     lines = [f"## {title}", "", ds.attrs["study_note"] + ".", ""]
     lines += [

@@ -129,7 +129,7 @@ def short_scene(case, name: str, duration: float, **changes):
 def run_on_paths(monkeypatch, case, scene, paths) -> dict:
     """The scene run once on each of the kernel's linear-solver paths, forced by the
     environment variable; each run must say it ran on that path and why."""
-    from pygear.analysis.transient import run_transient
+    from pygear.analysis.time.transient import run_transient
     from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 
     runs = {}
@@ -156,7 +156,7 @@ def study_roundoff(study_case, run) -> float:
 def assert_channels_agree(reference, other, tolerance: float, round_off_only: dict) -> None:
     """Every time channel of two runs within tolerance of its scale; a channel that is
     zero in exact arithmetic is measured against the channel ``round_off_only`` names."""
-    from pygear.analysis.channels import channel_names, channel_series
+    from pygear.analysis.signals.channels import channel_names, channel_series
 
     channels = channel_names(reference)
     assert channels

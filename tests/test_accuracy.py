@@ -11,7 +11,7 @@ import xarray as xr
 from conftest import consistent_stage, rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import Case, CaseError, Gearbox, Probe, RayleighDamping, Scene, TorqueLaw, Transient
-from pygear.analysis.accuracy import (
+from pygear.analysis.time.accuracy import (
     AccuracyStudy,
     Fidelity,
     metric_errors,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.analyze import analyze_channel
+from pygear.analysis.signals.analyze import analyze_channel
 from pygear.cli import main
 
 SAMPLE_RATE = 40000.0  # Hz, the paper's

@@ -21,7 +21,7 @@ import pytest
 from conftest import rigid_to_elastic_ratio, roundoff_tolerance, single_mesh_table
 
 from pygear import CaseError
-from pygear.analysis.transient import run_transient
+from pygear.analysis.time.transient import run_transient
 from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays, MeshTerms
 
 STIFFNESS = 1e6  # N/m
@@ -306,7 +306,7 @@ def test_zero_backlash_without_reversal_is_the_one_sided_run(study_case, monkeyp
     case, scene = short_runup(study_case, 0.0)
     zero = run_transient(case, scene)
     monkeypatch.setattr(
-        "pygear.analysis.transient.line_of_action_backlash", lambda *arguments: None
+        "pygear.analysis.time.transient.line_of_action_backlash", lambda *arguments: None
     )
     one_sided = run_transient(case, scene)
     assert zero.attrs["solver_coast"] == 0 and one_sided.attrs["solver_coast"] == 0
@@ -324,7 +324,7 @@ def test_zero_backlash_without_reversal_is_the_one_sided_run(study_case, monkeyp
 
 def test_separation_without_backlash_is_refused(study_case):
     """Tooth separation with no backlash would leave the coast flanks' place unknown."""
-    from pygear.analysis.transient import transient_problem
+    from pygear.analysis.time.transient import transient_problem
 
     scene = study_case.scene("runup")
     scene = dataclasses.replace(scene, effects=("tooth_separation",))

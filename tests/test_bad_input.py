@@ -22,7 +22,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pygear import CaseError, Probe, Scene, TorqueLaw, load_case
-from pygear.analysis.modal import solve_eigenproblem
+from pygear.analysis.modes.modal import solve_eigenproblem
 from pygear.assembly import assemble
 from pygear.cli import main
 from pygear.model.case import get_parameter, replace_parameter

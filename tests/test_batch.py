@@ -16,8 +16,8 @@ import pytest
 import xarray as xr
 
 from pygear import CaseError, Scene, load_case
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.transient import run_transient
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.time.transient import run_transient
 from pygear.assembly import assemble
 from pygear.assembly.drivetrain_model import scene_model
 from pygear.cli import batch as batch_cli

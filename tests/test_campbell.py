@@ -22,15 +22,15 @@ import scipy.linalg
 import xarray as xr
 
 from pygear import Scene, load_case
-from pygear.analysis.campbell import campbell_diagram, check_speeds, unstable_ranges
-from pygear.analysis.gyroscopic import (
+from pygear.analysis.modes.campbell import campbell_diagram, check_speeds, unstable_ranges
+from pygear.analysis.modes.gyroscopic import (
     GROWTH_TOLERANCE,
     quadratic_modes,
     speed_dependent_modes,
     whirl_ratios,
 )
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.mode_tracking import ModeTracker
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.modes.mode_tracking import ModeTracker
 from pygear.assembly.matrices import assemble
 from pygear.assembly.speed_terms import SpeedTerms, TranslationPair, speed_terms
 from pygear.cli.parser import main

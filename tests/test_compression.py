@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.channels import channel_names
-from pygear.analysis.transient_checks import signal_footprint, transient_footprint
+from pygear.analysis.signals.channels import channel_names
+from pygear.analysis.time.transient_checks import signal_footprint, transient_footprint
 from pygear.io import COMPRESSED_SIZE, COMPRESSION_LEVEL, write_netcdf
 from pygear.runs.outputs import write_run_signals
 from pygear.runs.transient_outputs import write_transient

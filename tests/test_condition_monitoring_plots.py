@@ -18,8 +18,8 @@ from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
-from pygear.analysis.signal import SignalError
-from pygear.analysis.spectral_kurtosis import fast_kurtogram
+from pygear.analysis.condition.spectral_kurtosis import fast_kurtogram
+from pygear.analysis.signals.signal import SignalError
 from pygear.io import save_figure
 from pygear.plots.condition_monitoring import (
     LABEL_RANGE_DB,

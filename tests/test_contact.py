@@ -30,7 +30,10 @@ from pygear import (
     Scene,
     ToothDefect,
 )
-from pygear.analysis.mesh_stiffness import ContactLossWarning, mesh_stiffness_at_constant_speed
+from pygear.analysis.contact.mesh_stiffness import (
+    ContactLossWarning,
+    mesh_stiffness_at_constant_speed,
+)
 from pygear.assembly import assemble
 from pygear.assembly.contact_table import build_contact_table
 from pygear.assembly.mesh_phasing import ring_sun_phase, stage_phasing

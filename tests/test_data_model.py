@@ -20,8 +20,8 @@ import pytest
 import xarray as xr
 
 from pygear import Probe, load_case
-from pygear.analysis.channels import channel_names, channel_series
-from pygear.analysis.transient import run_transient
+from pygear.analysis.signals.channels import channel_names, channel_series
+from pygear.analysis.time.transient import run_transient
 from pygear.cli import main
 from pygear.io import index_labels, open_dataset, open_mfdataset
 from pygear.runs import batch, sweep

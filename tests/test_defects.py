@@ -19,10 +19,10 @@ import pytest
 import xarray as xr
 
 from pygear import ToothDefect, load_case
-from pygear.analysis.channels import channel_series
-from pygear.analysis.mesh_stiffness import ContactLossWarning
-from pygear.analysis.signal import envelope_spectrum
-from pygear.analysis.transient import member_speeds, run_transient
+from pygear.analysis.contact.mesh_stiffness import ContactLossWarning
+from pygear.analysis.signals.channels import channel_series
+from pygear.analysis.signals.signal import envelope_spectrum
+from pygear.analysis.time.transient import member_speeds, run_transient
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 DURATION = 2.5  # s: t_s, settling, and 1.5 s of steady running after the 1 s start-up

@@ -25,7 +25,7 @@ from conftest import (
 )
 
 from pygear import load_case
-from pygear.analysis.transient import run_transient
+from pygear.analysis.time.transient import run_transient
 from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE, choose_linear_solver
 

@@ -88,7 +88,7 @@ def test_tutorial_modes_have_lin_and_parkers_structure(tutorial):
     """Four equally spaced planets, planar: 6 rotational frequencies (one the rigid
     rotation at 0 Hz), 6 translational ones twice each, 3 planet ones N - 3 = 1 time
     each; 21 modes (Lin & Parker 1999)."""
-    from pygear.analysis.modal import modal_analysis
+    from pygear.analysis.modes.modal import modal_analysis
     from pygear.assembly.matrices import assemble
 
     case = load_case(TUTORIAL_CASE)
@@ -108,7 +108,7 @@ def test_tutorial_runup_follows_the_rigid_body_theory(tutorial):
     N (m r_c^2 + I_p w^2), i = 1 + Z_r/Z_s, w = Z_r/Z_p - 1; t_s = -ln(1 - alpha J_eq
     omega_0 / T_D) / alpha, and the equilibrium x = omega/omega_0 solves
     T_D (1 - x^2) = alpha J_eq omega_0 x.  The speed ratios are the ideal kinematics."""
-    from pygear.analysis.transient import run_transient
+    from pygear.analysis.time.transient import run_transient
 
     case = load_case(TUTORIAL_CASE)
     stage = case.gearbox.stages[0]

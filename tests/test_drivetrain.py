@@ -26,10 +26,10 @@ import numpy as np
 import pytest
 
 from pygear import Bearing, Body, CaseError, GearboxMount, RigidLink, ShaftInertia
-from pygear.analysis.drivetrain_modal import drivetrain_modes, modal_damping_ratios
+from pygear.analysis.modes.drivetrain_modal import drivetrain_modes, modal_damping_ratios
 from pygear.assembly.drivetrain import assemble_drivetrain, build_structure
-from pygear.assembly.eigen import generalized_eigh
 from pygear.cli import main
+from pygear.linalg import generalized_eigh
 from pygear.model.case_files import load_case_module
 from pygear.model.drivetrain import ShaftSection
 from pygear.model.gearbox import Gearbox

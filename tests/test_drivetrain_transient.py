@@ -4,7 +4,7 @@ drivetrain's run-up and emergency stop through the kernel's automatic path.
 References, never the run's own output:
 
 * the drivetrain's torsional modes by shift-invert Lanczos on CHOLMOD
-  (pygear.analysis.drivetrain_modal, itself checked against the two-inertia closed form
+  (pygear.analysis.modes.drivetrain_modal, itself checked against the two-inertia closed form
   in tests/test_drivetrain.py): after the generator torque's step the train rings at
   its first torsional frequency;
 * the static deflection under the rated torques with inertia relief: started there, the
@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 from pygear import TorqueLaw, load_case
-from pygear.analysis.drivetrain_modal import drivetrain_modes
-from pygear.analysis.transient import run_transient, transient_problem
+from pygear.analysis.modes.drivetrain_modal import drivetrain_modes
+from pygear.analysis.time.transient import run_transient, transient_problem
 from pygear.assembly.drivetrain import assemble_drivetrain
 
 
@@ -174,8 +174,8 @@ def test_modal_below_gives_exactly_the_modes_below(capsys):
     1e-8 of these frequencies."""
     import json
 
-    from pygear.assembly.eigen import generalized_eigh
     from pygear.cli import main
+    from pygear.linalg import generalized_eigh
 
     case = load_case("nrel5mw_drivetrain")
     model = assemble_drivetrain(case, dof_set="torsional")

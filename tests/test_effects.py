@@ -16,9 +16,9 @@ from conftest import (
 )
 
 from pygear import CaseError, Scene
-from pygear.analysis.channels import channel_names, channel_series
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.transient import run_transient
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.signals.channels import channel_names, channel_series
+from pygear.analysis.time.transient import run_transient
 from pygear.assembly import assemble
 from pygear.cli import main
 
@@ -173,8 +173,8 @@ import dataclasses, json, sys
 import numpy as np
 from pygear import load_case
 from pygear._blas import kernel_blas
-from pygear.analysis.channels import channel_names, channel_series
-from pygear.analysis.transient import run_transient
+from pygear.analysis.signals.channels import channel_names, channel_series
+from pygear.analysis.time.transient import run_transient
 
 case = load_case(sys.argv[1])
 scene = case.scene("runup")

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.gear_average import gear_average, gear_indicator_values
-from pygear.analysis.gear_indicators import difference_signal
-from pygear.analysis.transient import run_transient
+from pygear.analysis.condition.gear_average import gear_average, gear_indicator_values
+from pygear.analysis.condition.gear_indicators import difference_signal
+from pygear.analysis.time.transient import run_transient
 from pygear.cli.parser import main
 from pygear.io import open_mfdataset
 from pygear.model.case import load_case

@@ -26,15 +26,15 @@ from matplotlib.figure import Figure
 from matplotlib.text import Annotation, Text
 
 from pygear import load_case
-from pygear.analysis.accuracy import AccuracyStudy
-from pygear.analysis.analyze import analyze_channel
-from pygear.analysis.campbell import campbell_diagram
-from pygear.analysis.mesh_stiffness import mesh_stiffness_at_constant_speed
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.order_plan import plan_order_tracking
-from pygear.analysis.order_tracking import track_orders
-from pygear.analysis.sensitivity import frequency_sweep
-from pygear.analysis.transient import run_transient
+from pygear.analysis.contact.mesh_stiffness import mesh_stiffness_at_constant_speed
+from pygear.analysis.modes.campbell import campbell_diagram
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.modes.sensitivity import frequency_sweep
+from pygear.analysis.signals.analyze import analyze_channel
+from pygear.analysis.signals.order_plan import plan_order_tracking
+from pygear.analysis.signals.order_tracking import track_orders
+from pygear.analysis.time.accuracy import AccuracyStudy
+from pygear.analysis.time.transient import run_transient
 from pygear.assembly.matrices import assemble
 from pygear.io import save_figure
 from pygear.plots.accuracy import plot_pareto

@@ -1,4 +1,4 @@
-"""Tests of pygear.analysis.gear_indicators and pygear.analysis.tsa_bands.
+"""Tests of pygear.analysis.condition.gear_indicators and pygear.analysis.condition.tsa_bands.
 
 Every reference follows from the definitions (Stewart 1977; Zakrajsek et al. 1993;
 Lebold et al. 2000) applied by hand to signals built from known components: sums of
@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis import gear_indicators as gi
-from pygear.analysis.signal import SignalError
+from pygear.analysis.condition import gear_indicators as gi
+from pygear.analysis.signals.signal import SignalError
 
 ROUND_OFF = 1e-12
 """Relative tolerance for results that are exact in exact arithmetic: an rFFT/irFFT

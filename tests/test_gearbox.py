@@ -21,7 +21,7 @@ from pygear import (
     TorsionalSpring,
     load_case,
 )
-from pygear.analysis.modal import modal_analysis
+from pygear.analysis.modes.modal import modal_analysis
 from pygear.assembly import assemble
 
 GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"

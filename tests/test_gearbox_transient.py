@@ -17,8 +17,8 @@ import xarray as xr
 from conftest import rigid_to_elastic_ratio, roundoff_tolerance
 
 from pygear import CaseError, Probe, load_case
-from pygear.analysis.channels import channel_names, channel_series
-from pygear.analysis.transient import run_transient, transient_problem
+from pygear.analysis.signals.channels import channel_names, channel_series
+from pygear.analysis.time.transient import run_transient, transient_problem
 from pygear.assembly import assemble
 from pygear.assembly.dof_rows import dof_row
 from pygear.runs.outputs import mesh_frequency

@@ -18,13 +18,13 @@ import scipy.linalg
 from conftest import case_of, consistent_stage
 
 from pygear import Scene
-from pygear.analysis.gyroscopic import (
+from pygear.analysis.modes.gyroscopic import (
     quadratic_modes,
     solve_at_speed,
     speed_dependent_modes,
     whirl_ratios,
 )
-from pygear.analysis.modal import modal_analysis
+from pygear.analysis.modes.modal import modal_analysis
 from pygear.assembly.effects import effects_in_force
 from pygear.assembly.matrices import assemble
 from pygear.assembly.speed_terms import SpeedTerms, TranslationPair, speed_terms

@@ -37,6 +37,12 @@ KNOWN_CYCLES = {("pygear.model.gear_checks", "pygear.model.gear_geometry")}
 the methods), and those rules use the geometry's formulas: one concern split in two
 files of the same layer, so a geometry and its rules stay one import away."""
 
+ANALYSIS_TOPICS = ("contact", "modes", "signals", "condition", "time", "response", "rating")
+"""The subpackages of ``pygear.analysis``, lowest first: a topic imports only from those
+before it.  What the teeth give (``contact``) feeds the modes, the modes and the signal
+tools feed the sensor path and the transient (``time``, which also checks its accuracy
+against spectra), and the steady-state response and the rating build on all of them."""
+
 MAX_LINES = 600
 LENGTH_REASON = "longer than 600 lines because"
 """A module may exceed :data:`MAX_LINES` only if its docstring says why in these words."""
@@ -65,6 +71,14 @@ def _layer(module: str) -> int:
     if len(parts) > 1 and parts[1] in LAYERS:
         return LAYERS.index(parts[1])
     return 0  # a top-level private module
+
+
+def _topic(module: str) -> int:
+    """Position of an analysis module's subpackage in :data:`ANALYSIS_TOPICS`."""
+    parts = module.split(".")
+    if len(parts) < 3 or parts[1] != "analysis" or parts[2] not in ANALYSIS_TOPICS:
+        return -1
+    return ANALYSIS_TOPICS.index(parts[2])
 
 
 def _imports(module: str, path: Path) -> set[str]:
@@ -99,6 +113,15 @@ def _internal(targets: set[str]) -> set[str]:
     return {t for t in targets if t == "pygear" or t.startswith("pygear.")}
 
 
+@pytest.mark.parametrize("module", sorted(m for m in SOURCES if m.startswith("pygear.kernel.")))
+def test_kernel_takes_arrays_not_models(module):
+    # the kernel layer takes arrays and small settings objects: no case, no assembled model
+    above = sorted(
+        t for t in _internal(GRAPH[module]) if t.startswith(("pygear.model", "pygear.assembly"))
+    )
+    assert not above, f"{module} imports the model or assembly: {above}"
+
+
 def test_the_walk_sees_the_package():
     # the layers exist and the walk finds imports inside functions: the CLI imports its
     # handlers' modules lazily, so it must be seen importing pygear.analysis
@@ -114,6 +137,27 @@ def test_no_upward_import(module):
         target for target in _internal(GRAPH[module]) if _layer(target) > _layer(module)
     )
     assert not upward, f"{module} ({LAYERS[_layer(module)]}) imports a higher layer: {upward}"
+
+
+def test_analysis_is_in_topics():
+    # every analysis module lives in a declared topic subpackage
+    loose = sorted(
+        m
+        for m in SOURCES
+        if m.startswith("pygear.analysis.") and _topic(m) < 0
+    )
+    assert not loose, f"analysis modules outside the declared topics: {loose}"
+
+
+@pytest.mark.parametrize("module", sorted(m for m in SOURCES if _topic(m) >= 0))
+def test_no_upward_import_between_analysis_topics(module):
+    upward = sorted(
+        target for target in _internal(GRAPH[module]) if _topic(target) > _topic(module)
+    )
+    assert not upward, (
+        f"{module} ({ANALYSIS_TOPICS[_topic(module)]}) imports a later analysis topic: "
+        f"{upward}"
+    )
 
 
 def test_no_import_cycle():
@@ -162,14 +206,15 @@ def test_the_rules_catch_what_they_should(tmp_path):
     source = tmp_path / "probe.py"
     source.write_text(
         "def f():\n"
-        "    from ..plots import modal\n"
+        "    from ...plots import modal\n"
         "    if True:\n"
         "        import matplotlib.pyplot\n"
         "    from . import modal as m\n"
     )
-    found = _imports("pygear.analysis.probe", source)
-    assert {"pygear.plots.modal", "matplotlib.pyplot", "pygear.analysis.modal"} <= found
-    assert _layer("pygear.plots.modal") > _layer("pygear.analysis.probe")
+    found = _imports("pygear.analysis.modes.probe", source)
+    assert {"pygear.plots.modal", "matplotlib.pyplot", "pygear.analysis.modes.modal"} <= found
+    assert _layer("pygear.plots.modal") > _layer("pygear.analysis.modes.probe")
+    assert _topic("pygear.analysis.time.transient") > _topic("pygear.analysis.modes.modal")
     assert _layer("pygear.kernel.calls") < _layer("pygear.assembly.matrices")
     assert _layer("pygear.kernel.newmark") > _layer("pygear.assembly.matrices")
 

@@ -34,7 +34,7 @@ import pytest
 import scipy.linalg
 
 from pygear import Probe, TorqueLaw
-from pygear.analysis.transient import transient_problem
+from pygear.analysis.time.transient import transient_problem
 from pygear.assembly.dof_rows import dof_row
 
 pytestmark = pytest.mark.slow

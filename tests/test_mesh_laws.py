@@ -34,7 +34,7 @@ from pygear import (
     PlanetaryStage,
     PlanetBearing,
 )
-from pygear.analysis.mesh_stiffness import mesh_stiffness_at_constant_speed
+from pygear.analysis.contact.mesh_stiffness import mesh_stiffness_at_constant_speed
 from pygear.assembly.contact_table import build_contact_table
 from pygear.assembly.matrices import assemble
 from pygear.assembly.mesh_laws import LAW_CODES, mesh_law

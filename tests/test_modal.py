@@ -10,8 +10,8 @@ import pytest
 from conftest import case_of, consistent_stage
 
 from pygear import Scene
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.sensitivity import frequency_sensitivity
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.modes.sensitivity import frequency_sensitivity
 from pygear.assembly import assemble
 
 # Yang, Jiang & Han (2016) Table 2 (N = 3)

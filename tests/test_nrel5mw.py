@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from pygear import Case
-from pygear.analysis.modal import modal_analysis
+from pygear.analysis.modes.modal import modal_analysis
 from pygear.assembly import assemble
 from pygear.assembly.mesh_laws import mesh_law, planetary_mesh_geometry
 from pygear.assembly.tooth_stiffness import ToothBody

@@ -18,9 +18,13 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.order_plan import plan_order_tracking
-from pygear.analysis.order_references import mesh_orders, reference_angle, stored_mesh_orders
-from pygear.analysis.order_tracking import (
+from pygear.analysis.signals.order_plan import plan_order_tracking
+from pygear.analysis.signals.order_references import (
+    mesh_orders,
+    reference_angle,
+    stored_mesh_orders,
+)
+from pygear.analysis.signals.order_tracking import (
     angle_order_spectrum,
     order_peaks,
     order_slices,
@@ -28,7 +32,7 @@ from pygear.analysis.order_tracking import (
     resample_to_angle,
     track_orders,
 )
-from pygear.analysis.signal import SignalError
+from pygear.analysis.signals.signal import SignalError
 from pygear.assembly.matrices import assemble
 from pygear.cli import main
 from pygear.io import open_dataset

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from pygear import CaseError, Probe, Scene, TorqueLaw, load_case
-from pygear.analysis.modal import solve_eigenproblem
-from pygear.analysis.transient import run_transient, transient_problem
+from pygear.analysis.modes.modal import solve_eigenproblem
+from pygear.analysis.time.transient import run_transient, transient_problem
 from pygear.assembly import assemble
 from pygear.cli import main
 from pygear.kernel.newmark import TransientError

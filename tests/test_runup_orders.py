@@ -28,10 +28,10 @@ import numpy as np
 import pytest
 
 from pygear import load_case
-from pygear.analysis.campbell import campbell_diagram
-from pygear.analysis.order_plan import plan_order_tracking
-from pygear.analysis.order_tracking import order_slices, resample_to_angle
-from pygear.analysis.transient import run_transient
+from pygear.analysis.modes.campbell import campbell_diagram
+from pygear.analysis.signals.order_plan import plan_order_tracking
+from pygear.analysis.signals.order_tracking import order_slices, resample_to_angle
+from pygear.analysis.time.transient import run_transient
 from pygear.assembly import assemble
 from pygear.assembly.dof_rows import dof_row, rigid_rotation
 

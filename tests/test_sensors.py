@@ -10,8 +10,12 @@ import numpy as np
 import pytest
 
 from pygear import CaseError, Probe, StructuralMode
-from pygear.analysis.sensor_signal import add_noise, structural_response, transmission_window
-from pygear.analysis.transient import run_transient
+from pygear.analysis.condition.sensor_signal import (
+    add_noise,
+    structural_response,
+    transmission_window,
+)
+from pygear.analysis.time.transient import run_transient
 from pygear.model.case import load_case, replace_parameter
 
 

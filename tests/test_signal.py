@@ -1,4 +1,4 @@
-"""Tests of pygear.analysis.signal and pygear.analysis.peaks.
+"""Tests of pygear.analysis.signals.signal and pygear.analysis.signals.peaks.
 
 References come from closed-form results (amplitudes of tones, sidebands and
 envelopes), from numpy.fft / scipy.signal reimplementations written here, or
@@ -14,8 +14,8 @@ import pytest
 import scipy.signal
 import xarray as xr
 
-from pygear.analysis import signal as ps
-from pygear.analysis.peaks import find_peaks, local_maxima, peak_table_text
+from pygear.analysis.signals import signal as ps
+from pygear.analysis.signals.peaks import find_peaks, local_maxima, peak_table_text
 
 
 def make_signal(values: np.ndarray, sample_rate: float, start: float = 0.0) -> xr.DataArray:

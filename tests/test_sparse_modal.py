@@ -1,4 +1,4 @@
-"""Shift-invert Lanczos modes of large sparse models (pygear.analysis.sparse_modal),
+"""Shift-invert Lanczos modes of large sparse models (pygear.analysis.modes.sparse_modal),
 against closed forms of spring-mass chains and the dense symmetric-definite solver.
 
 Spring-mass chains of N equal masses m and springs k, K = k T with T tridiagonal
@@ -23,8 +23,8 @@ import pytest
 import scipy.linalg
 import scipy.sparse as sp
 
-from pygear.analysis import sparse_modal
-from pygear.analysis.sparse_modal import sparse_modes
+from pygear.analysis.modes import sparse_modal
+from pygear.analysis.modes.sparse_modal import sparse_modes
 
 UNIT_ROUNDOFF = np.finfo(float).eps / 2
 STIFFNESS = 4.0e8  # k [N/m]: a gear-mesh order of magnitude

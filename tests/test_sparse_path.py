@@ -227,7 +227,7 @@ def test_ten_thousand_dof_drivetrain_modes_and_steps():
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
     from bench_sparse_path import drivetrain
 
-    from pygear.analysis.sparse_modal import sparse_modes
+    from pygear.analysis.modes.sparse_modal import sparse_modes
 
     mass, _, stiffness, n = drivetrain(10_002)
     assert n >= 9_900

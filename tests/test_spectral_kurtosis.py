@@ -1,4 +1,4 @@
-"""Tests of pygear.analysis.spectral_kurtosis.
+"""Tests of pygear.analysis.condition.spectral_kurtosis.
 
 References follow from the definitions (Antoni 2006, 2007; Bogert, Healy & Tukey 1963)
 applied to signals built by hand: seeded Gaussian noise, whose spectral kurtosis is 0
@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from pygear.analysis import spectral_kurtosis as sk
-from pygear.analysis.signal import SignalError
+from pygear.analysis.condition import spectral_kurtosis as sk
+from pygear.analysis.signals.signal import SignalError
 
 ROUND_OFF = 1e-12
 """Relative tolerance for results exact in exact arithmetic: FFTs of at most 2^16 points

@@ -699,7 +699,7 @@ def test_restart_is_refused_where_it_does_not_apply(study_case):
     """The restart solves the equation of motion at a step instant: average
     acceleration only, and not with tooth separation."""
     from pygear import CaseError
-    from pygear.analysis.transient import transient_problem
+    from pygear.analysis.time.transient import transient_problem
 
     scene = study_case.scene("runup")
     hht = dataclasses.replace(

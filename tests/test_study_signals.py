@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from pygear import load_case
-from pygear.analysis.modal import modal_analysis
-from pygear.analysis.peaks import find_peaks
-from pygear.analysis.signal import amplitude_spectrum, demodulated_resonance
-from pygear.analysis.transient import run_transient
+from pygear.analysis.modes.modal import modal_analysis
+from pygear.analysis.signals.peaks import find_peaks
+from pygear.analysis.signals.signal import amplitude_spectrum, demodulated_resonance
+from pygear.analysis.time.transient import run_transient
 from pygear.assembly import assemble
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"

@@ -13,7 +13,7 @@ import xarray as xr
 
 from pygear import CaseError, load_case
 from pygear import io as pygear_io
-from pygear.analysis.modal import modal_analysis
+from pygear.analysis.modes.modal import modal_analysis
 from pygear.assembly import assemble
 from pygear.cli import batch
 from pygear.model.case import replace_parameter

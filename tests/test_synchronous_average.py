@@ -26,8 +26,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pygear.analysis.signal import SignalError
-from pygear.analysis.synchronous_average import (
+from pygear.analysis.condition.synchronous_average import (
     angle_from_tachometer,
     planet_average,
     planet_synchronous_average,
@@ -38,6 +37,7 @@ from pygear.analysis.synchronous_average import (
     time_synchronous_average,
     weighted_angle_average,
 )
+from pygear.analysis.signals.signal import SignalError
 
 TWO_PI = 2.0 * math.pi
 HARMONICS = ((1, 0.8, 0.3), (7, 0.5, 1.1), (20, 0.3, -0.4))

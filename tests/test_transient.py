@@ -1,5 +1,5 @@
 """Tests of the banded Newmark transient (fortran/newmark.f90, pygear.kernel.newmark,
-pygear.analysis.transient).
+pygear.analysis.time.transient).
 
 References: Chopra's Examples 5.3/5.4 (*Dynamics of Structures*) and the textbook
 properties of average acceleration (Newmark 1959), closed-form solutions of a single
@@ -22,8 +22,8 @@ import pytest
 import xarray as xr
 
 from pygear import CaseError, Probe, Scene, TorqueLaw
-from pygear.analysis.channels import channel_names
-from pygear.analysis.transient import run_transient, static_mesh_deflections, transient_problem
+from pygear.analysis.signals.channels import channel_names
+from pygear.analysis.time.transient import run_transient, static_mesh_deflections, transient_problem
 from pygear.assembly import assemble
 from pygear.assembly.dof_rows import dof_row
 from pygear.cli import main

@@ -15,7 +15,7 @@ explains a name the code lacks or lacks a name the code has, so a new effect, an
 DOF or probe quantity cannot stay undocumented.
 
 ``mode-classes`` in place of a constant gives the mode classes that
-:func:`pygear.analysis.modal.classify` can return, found by classifying every
+:func:`pygear.analysis.modes.modal.classify` can return, found by classifying every
 combination of present and absent motions.
 """
 
@@ -40,7 +40,7 @@ ROLE = re.compile(r":([a-z]+):`([^`]+)`")
 
 
 def mode_classes() -> tuple[str, ...]:
-    """Every class :func:`~pygear.analysis.modal.classify` returns, in first-seen order.
+    """Every class :func:`~pygear.analysis.modes.modal.classify` returns, in first-seen order.
 
     The classifier reads each mode's kinetic-energy shares by role (central member or
     planet), motion (translation, rotation) and plane; a mode per combination of
@@ -48,7 +48,7 @@ def mode_classes() -> tuple[str, ...]:
     """
     import numpy as np
 
-    from pygear.analysis.modal import classify
+    from pygear.analysis.modes.modal import classify
 
     keys = list(itertools.product(("central", "planet"), ("translation", "rotation"),
                                   ("in-plane", "out-of-plane")))  # fmt: skip

@@ -4,7 +4,7 @@
 defects) into the flat arrays of the Fortran module ``contact_table``, which
 checks them once, keeps them under a handle and evaluates every mesh at a state
 (docs/model.md §5.1).  The constant-speed evaluation is
-:func:`pygear.analysis.mesh_stiffness.mesh_stiffness_at_constant_speed`.
+:func:`pygear.analysis.contact.mesh_stiffness.mesh_stiffness_at_constant_speed`.
 
 Each mesh's gear 1 is the central member (sun or ring) and gear 2 the planet;
 tooth numbering and phases are derived in :mod:`pygear.assembly.mesh_phasing`.

@@ -35,7 +35,7 @@ def rigid_rotation(model: Model) -> np.ndarray | None:
     is zero (:func:`pygear.rigid_modes.rigid_body_mask`); its sign is arbitrary, so
     callers use ratios.
     """
-    from .eigen import generalized_eigh
+    from ..linalg import generalized_eigh
 
     values, vectors = generalized_eigh(model.stiffness, model.mass)
     zero = rigid_body_mask(values)

@@ -43,10 +43,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import CaseError
+from ..linalg import generalized_eigh
 from ..model.case import Case, check_choice
 from ..model.drivetrain import Drivetrain, Shaft
 from ..model.scene_settings import scene_settings
-from .eigen import generalized_eigh
 from .matrices import Model, assemble
 from .shaft_elements import (
     ElementMatrices,

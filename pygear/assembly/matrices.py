@@ -603,7 +603,7 @@ class _Builder:
 
 def _check_rigid_body_modes(case: Case, mass: np.ndarray, stiffness: np.ndarray) -> None:
     """Refuse a gearbox whose count of free rigid-body motions is not the declared one."""
-    from .eigen import generalized_eigh
+    from ..linalg import generalized_eigh
 
     eigenvalues = generalized_eigh(stiffness, mass, eigenvalues_only=True)
     count = int(np.sum(eigenvalues < 1e-10 * max(abs(eigenvalues).max(), 1.0)))

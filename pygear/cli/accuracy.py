@@ -55,7 +55,7 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 
 def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
     """Write the grid, the table and the Pareto plots of a study into ``out``."""
-    from ..analysis.accuracy import accuracy_table_text
+    from ..analysis.time.accuracy import accuracy_table_text
     from ..io import atomic_path, save_figure, write_netcdf
     from ..plots.accuracy import plot_pareto
 
@@ -80,7 +80,7 @@ def write_accuracy(ds: xr.Dataset, out: Path) -> list[Path]:
 
 
 def _accuracy(args: argparse.Namespace) -> int:
-    from ..analysis.accuracy import AccuracyStudy, accuracy_table_text, load_accuracy_study
+    from ..analysis.time.accuracy import AccuracyStudy, accuracy_table_text, load_accuracy_study
     from ..model.case import load_case
     from ..runs.accuracy import accuracy_study
     from ..runs.json_output import json_text

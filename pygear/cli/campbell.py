@@ -170,7 +170,7 @@ def _campbell(args: argparse.Namespace) -> int:
 
     import numpy as np
 
-    from ..analysis.campbell import campbell_diagram
+    from ..analysis.modes.campbell import campbell_diagram
     from ..assembly.speed_terms import reference_label
     from ..io import save_figure, write_netcdf
     from ..plots.campbell import plot_campbell

@@ -92,9 +92,9 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     """Handler of ``pygear analyze RUN.nc --tsa GEAR [--indicators] [--json]``."""
     import xarray as xr
 
-    from ..analysis.channels import channel_series, run_channels
-    from ..analysis.gear_average import gear_average, gear_indicator_values
-    from ..analysis.spectral_kurtosis import fast_kurtogram
+    from ..analysis.condition.gear_average import gear_average, gear_indicator_values
+    from ..analysis.condition.spectral_kurtosis import fast_kurtogram
+    from ..analysis.signals.channels import channel_series, run_channels
     from ..io import index_labels, write_netcdf
     from ..runs.json_output import json_text
 

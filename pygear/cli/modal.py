@@ -17,7 +17,7 @@ from ..model.names import DOF_SETS, FORMULATIONS
 from ..runs.progress import ProgressBar
 
 if TYPE_CHECKING:
-    from ..analysis.modal import ModalResult
+    from ..analysis.modes.modal import ModalResult
 
 __all__ = ["HANDLERS", "add_parsers", "modal_summary"]
 
@@ -92,7 +92,7 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 
 def modal_summary(modal: ModalResult) -> dict:
     """The numbers ``--json`` prints for a modal analysis
-    (:func:`pygear.analysis.modal.modal_results`)."""
+    (:func:`pygear.analysis.modes.modal.modal_results`)."""
     return {
         "case": modal.attrs["case"],
         "formulation": modal.attrs["formulation"],
@@ -128,7 +128,7 @@ def _print_modal_table(modal: ModalResult) -> None:
 
 def _modal(args: argparse.Namespace) -> int:
     # the table needs NumPy alone: xarray, NetCDF and the figures load only with --out
-    from ..analysis.modal import modal_results
+    from ..analysis.modes.modal import modal_results
     from ..assembly.matrices import assemble
     from ..model.case import load_case
     from ..runs.json_output import json_text
@@ -145,14 +145,14 @@ def _modal(args: argparse.Namespace) -> int:
     modal = modal_results(model)
     elapsed = time.perf_counter() - started
     if args.out:
-        from ..analysis.modal import modal_dataset
+        from ..analysis.modes.modal import modal_dataset
         from ..runs.outputs import write_modal_outputs
 
         dataset = modal_dataset(modal)
         write_modal_outputs(case, None, model, dataset, args.out, f"modal_{model.formulation}")
     summary = {**modal_summary(modal), "wall_s": elapsed}
     if args.compare_stage:
-        from ..analysis.modal import stage_comparison
+        from ..analysis.modes.modal import stage_comparison
 
         comparison = stage_comparison(case, args.compare_stage, model.formulation)
         summary["stage_comparison"] = {
@@ -177,7 +177,7 @@ def _modal(args: argparse.Namespace) -> int:
 
 def _drivetrain_modal(case, args: argparse.Namespace) -> int:
     """A drivetrain case: its lowest ``--modes`` modes, spatial unless ``--dof-set``."""
-    from ..analysis.drivetrain_modal import drivetrain_modes
+    from ..analysis.modes.drivetrain_modal import drivetrain_modes
     from ..assembly.drivetrain import assemble_drivetrain
     from ..errors import CaseError
     from ..runs.json_output import json_text
@@ -259,7 +259,7 @@ def _matrices(args: argparse.Namespace) -> int:
 def _sensitivity(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..analysis.sensitivity import frequency_sweep, parse_values
+    from ..analysis.modes.sensitivity import frequency_sweep, parse_values
     from ..io import save_figure, write_netcdf
     from ..model.case import load_case
     from ..plots.modal import plot_frequency_sweep

@@ -35,8 +35,8 @@ def _read_run(path) -> object:
 
 def analyze_orders(args: argparse.Namespace) -> int:
     """Handler of ``pygear analyze --orders``; returns the exit code."""
-    from ..analysis.order_plan import plan_order_tracking
-    from ..analysis.order_tracking import order_summary
+    from ..analysis.signals.order_plan import plan_order_tracking
+    from ..analysis.signals.order_tracking import order_summary
     from ..runs.json_output import json_text
     from ..runs.order_outputs import order_directory, write_order_tracking
 

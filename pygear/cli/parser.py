@@ -28,7 +28,10 @@ __all__ = ["build_parser", "main"]
 _FAMILIES = (run, modal, campbell, batch, accuracy, condition, cases, show_case)
 """Command families, in the order their subcommands are listed."""
 
-_USER_ERRORS = (("pygear.kernel.calls", "KernelError"), ("pygear.analysis.signal", "SignalError"))
+_USER_ERRORS = (
+    ("pygear.kernel.calls", "KernelError"),
+    ("pygear.analysis.signals.signal", "SignalError"),
+)
 """Errors besides CaseError that mean bad input (exit code 2).  An error can only be an
 instance of a class whose module is loaded, so these are looked up, never imported."""
 

@@ -149,9 +149,9 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 def _analyze(args: argparse.Namespace) -> int:
     import xarray as xr
 
-    from ..analysis.analyze import pick_channel
-    from ..analysis.channels import channel_file_part
-    from ..analysis.peaks import peak_table_text
+    from ..analysis.signals.analyze import pick_channel
+    from ..analysis.signals.channels import channel_file_part
+    from ..analysis.signals.peaks import peak_table_text
     from ..io import index_labels
     from ..runs.json_output import json_text
     from ..runs.outputs import stored_references, write_signal_analysis
@@ -235,8 +235,8 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..analysis.modal import modal_dataset, modal_results
-    from ..analysis.transient import runup_table_text, transient_summary
+    from ..analysis.modes.modal import modal_dataset, modal_results
+    from ..analysis.time.transient import runup_table_text, transient_summary
     from ..assembly.drivetrain_model import scene_model
     from ..io import write_netcdf
     from ..model.case import load_case
@@ -272,7 +272,7 @@ def _run(args: argparse.Namespace) -> int:
             entry.update(modal_summary(modal))
             entry["files"] += [str(p) for p in files]
         if "sensitivity" in scene.analyses:
-            from ..analysis.sensitivity import frequency_sensitivity
+            from ..analysis.modes.sensitivity import frequency_sensitivity
 
             sensitivity = frequency_sensitivity(model)
             path = write_netcdf(

@@ -8,7 +8,7 @@ stores them as LAPACK band matrices, hands them to the kernel once as a problem
 steps per call and returns its whole state, so this module shows progress, stops
 cleanly between chunks on Ctrl-C, writes checkpoints, and turns error codes into
 :class:`TransientError` messages naming the time, the DOF or mesh and the likely
-cause.  Nothing here knows about gearboxes: :mod:`pygear.analysis.transient` builds the
+cause.  Nothing here knows about gearboxes: :mod:`pygear.analysis.time.transient` builds the
 inputs from a case.
 
 This module is longer than 600 lines because the chunked run loop, its checkpoints

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from ..assembly.eigen import generalized_eigh
+from ..linalg import generalized_eigh
 from ..rigid_modes import rigid_body_mask
 
 __all__ = ["RigidRebase"]

@@ -8,7 +8,7 @@ window that is largest when the planet passes the sensor and zero on the far sid
 turns (Inalpolat & Kahraman 2009).  The ring's bearing force reaches it with a fixed
 gain.  The structure between the contact and the sensor is a sum of lightly damped
 modes (a given frequency response), or a flat gain.  Measurement noise is off unless a
-scene sets a signal-to-noise ratio.  :mod:`pygear.analysis.sensor_signal` turns the
+scene sets a signal-to-noise ratio.  :mod:`pygear.analysis.condition.sensor_signal` turns the
 simulated forces into the recorded acceleration (docs/condition_monitoring.md).
 """
 

@@ -1,7 +1,7 @@
 """Transient settings of a scene: time stepping, drive and load laws, output probes.
 
 These are descriptions only (frozen dataclasses checked by ``validate``); the run
-itself lives in :mod:`pygear.analysis.transient`.  A case file writes, for the seed's run-up
+itself lives in :mod:`pygear.analysis.time.transient`.  A case file writes, for the seed's run-up
 (docs/model.md §6.3)::
 
     Transient(
@@ -63,8 +63,8 @@ PROBE_QUANTITIES = {
 
 RUN_VARIABLES = frozenset(
     {
-        # coordinates and results of the run (pygear.analysis.transient), its grouped
-        # channels and their label dimensions (pygear.analysis.run_layout)
+        # coordinates and results of the run (pygear.analysis.time.transient), its grouped
+        # channels and their label dimensions (pygear.analysis.time.run_layout)
         "time",
         "scene",
         "body",

@@ -1,6 +1,6 @@
 """Pareto plot of an accuracy study: error against wall time per metric kind.
 
-Plotting only; :mod:`pygear.analysis.accuracy` computes.  One panel per kind of metric (t_s,
+Plotting only; :mod:`pygear.analysis.time.accuracy` computes.  One panel per kind of metric (t_s,
 equilibrium speeds, mesh-force RMS, ...), one marker per setting (colour: fidelity,
 size: time step), the Pareto front of the formulation drawn as a line, the tolerance
 as a dashed line and the cheapest setting that meets it circled.
@@ -16,7 +16,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
-from ..analysis.accuracy import recommendation
+from ..analysis.time.accuracy import recommendation
 from .layout import new_figure, result_title
 
 __all__ = ["plot_pareto"]

@@ -64,7 +64,7 @@ def plot_campbell(campbell: xr.Dataset, *, scene: str | None = None) -> Figure:
     Parameters
     ----------
     campbell : xarray.Dataset
-        From :func:`pygear.analysis.campbell.campbell_diagram`.
+        From :func:`pygear.analysis.modes.campbell.campbell_diagram`.
     scene : str, optional
         The scene, for the title when the attributes do not name one.
 

@@ -1,7 +1,7 @@
 """Figures of gear condition monitoring, plotting only: a gear's synchronous average
-with its difference signal (:mod:`pygear.analysis.gear_average`), indicator trends
+with its difference signal (:mod:`pygear.analysis.condition.gear_average`), indicator trends
 against fault severity (the fault datasets' records), the fast kurtogram (Antoni 2007;
-:mod:`pygear.analysis.spectral_kurtosis`) and a ring sensor's spectrum in carrier orders
+:mod:`pygear.analysis.condition.spectral_kurtosis`) and a ring sensor's spectrum in carrier orders
 with its sidebands labelled (McFadden & Smith 1985).
 
 Every function returns a :class:`matplotlib.figure.Figure` on an Agg canvas, not
@@ -24,9 +24,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import MaxNLocator
 
-from ..analysis.gear_indicators import difference_signal
-from ..analysis.signal import SignalError
-from ..analysis.spectral_kurtosis import KurtogramBand
+from ..analysis.condition.gear_indicators import difference_signal
+from ..analysis.condition.spectral_kurtosis import KurtogramBand
+from ..analysis.signals.signal import SignalError
 from .decimation import plot_envelope
 
 __all__ = [
@@ -83,7 +83,7 @@ def _units(attrs: dict, default: str = "-") -> str:
 
 def _tooth_spans(damaged_teeth: Iterable[Any], teeth: int) -> list[tuple[float, float, str]]:
     """Each damaged tooth as a span in tooth periods and its name: tooth ``k`` sits at
-    ``k`` (the convention of :mod:`pygear.analysis.synchronous_average`), so it covers
+    ``k`` (the convention of :mod:`pygear.analysis.condition.synchronous_average`), so it covers
     ``[k - 1/2, k + 1/2]``; a pair is a span ``(start, end)`` as given."""
     spans = []
     for item in damaged_teeth:
@@ -133,7 +133,7 @@ def plot_gear_average(
         One revolution along ``angle`` [rad] from 0 to 2 pi, with the attributes
         ``teeth`` (the mesh order of the difference signal) and ``units``, and
         ``gear``, ``revolutions`` and ``long_name`` where known
-        (:func:`pygear.analysis.gear_average.gear_average`).
+        (:func:`pygear.analysis.condition.gear_average.gear_average`).
     damaged_teeth : sequence, optional
         Teeth to shade: a tooth number ``k`` (the span ``k +/- 1/2``) or a
         ``(start, end)`` span in tooth periods; spans past the revolution's end wrap.
@@ -145,7 +145,7 @@ def plot_gear_average(
     matplotlib.figure.Figure
         Two panels sharing the x axis, angle x teeth / 2 pi (tick ``k`` is tooth ``k``):
         the average, and its difference signal
-        (:func:`pygear.analysis.gear_indicators.difference_signal`: the mean, the
+        (:func:`pygear.analysis.condition.gear_indicators.difference_signal`: the mean, the
         shaft orders, the mesh harmonics and their first sidebands removed).
     """
     if not isinstance(average, xr.DataArray) or "angle" not in average.dims:
@@ -348,7 +348,7 @@ def plot_kurtogram(kurtogram: xr.Dataset, best: KurtogramBand, title: str | None
     ----------
     kurtogram : xarray.Dataset
         ``kurtosis`` over (``level``, ``frequency``) as
-        :func:`pygear.analysis.spectral_kurtosis.fast_kurtogram` returns it (frequency
+        :func:`pygear.analysis.condition.spectral_kurtosis.fast_kurtogram` returns it (frequency
         cells across ``[0, sample_rate / 2]``), with the ``sample_rate`` attribute.
     best : KurtogramBand
         The band to outline and annotate (the function's second result).

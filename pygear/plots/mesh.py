@@ -50,7 +50,7 @@ def plot_mesh_stiffness(
     Parameters
     ----------
     dataset : xarray.Dataset
-        From :func:`pygear.analysis.mesh_stiffness.mesh_stiffness_at_constant_speed`.
+        From :func:`pygear.analysis.contact.mesh_stiffness.mesh_stiffness_at_constant_speed`.
     meshes : tuple of str, optional
         Meshes to draw, one panel each; default :data:`DEFAULT_PANELS` (those present).
     scene : str, optional

@@ -60,7 +60,7 @@ def plot_modal_energy(modal: xr.Dataset, *, scene: str | None = None) -> Figure:
     Parameters
     ----------
     modal : xarray.Dataset
-        From :func:`pygear.analysis.modal.modal_analysis`.
+        From :func:`pygear.analysis.modes.modal.modal_analysis`.
     scene : str, optional
         The scene the model was assembled for, for the title when the attributes do
         not name one.
@@ -127,7 +127,7 @@ def plot_frequency_sweep(sweep: xr.Dataset, *, scene: str | None = None) -> Figu
     Parameters
     ----------
     sweep : xarray.Dataset
-        From :func:`pygear.analysis.sensitivity.frequency_sweep`.
+        From :func:`pygear.analysis.modes.sensitivity.frequency_sweep`.
     scene : str, optional
         The scene the models were assembled for, for the title when the attributes do
         not name one.

@@ -203,7 +203,7 @@ def plot_mode_shape(
     model : Model
         The assembled model (its reduction gives the full DOF vector).
     modal : xarray.Dataset
-        From :func:`pygear.analysis.modal.modal_analysis` of ``model``.
+        From :func:`pygear.analysis.modes.modal.modal_analysis` of ``model``.
     mode : int
         Position of the mode along ``modal.mode`` (0 is the lowest).
     stage : str, optional

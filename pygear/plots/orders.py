@@ -1,5 +1,5 @@
 """Figures of a computed order tracking (plotting only; the numbers come from
-:func:`pygear.analysis.order_tracking.track_orders`): the order-speed colour map with the
+:func:`pygear.analysis.signals.order_tracking.track_orders`): the order-speed colour map with the
 stages' mesh orders drawn as lines, the order spectrum of the whole record, and the
 order slices against the reference speed."""
 
@@ -91,7 +91,7 @@ def plot_order_map(result: xr.Dataset, *, run_attrs: Mapping[str, Any] | None = 
     Parameters
     ----------
     result : xarray.Dataset
-        From :func:`pygear.analysis.order_tracking.track_orders`.
+        From :func:`pygear.analysis.signals.order_tracking.track_orders`.
     run_attrs : mapping, optional
         Attributes of the run (``case``, ``scene``, ``formulation``), for the title.
     """
@@ -130,7 +130,7 @@ def plot_order_spectrum(
     Parameters
     ----------
     result : xarray.Dataset
-        From :func:`pygear.analysis.order_tracking.track_orders`.
+        From :func:`pygear.analysis.signals.order_tracking.track_orders`.
     run_attrs : mapping, optional
         Attributes of the run (``case``, ``scene``, ``formulation``), for the title.
     """
@@ -165,7 +165,7 @@ def plot_order_slices(result: xr.Dataset, *, run_attrs: Mapping[str, Any] | None
     Parameters
     ----------
     result : xarray.Dataset
-        From :func:`pygear.analysis.order_tracking.track_orders`.
+        From :func:`pygear.analysis.signals.order_tracking.track_orders`.
     run_attrs : mapping, optional
         Attributes of the run (``case``, ``scene``, ``formulation``), for the title.
     """

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..analysis.analyze import RunAnalysis
+from ..analysis.signals.analyze import RunAnalysis
 from .decimation import plot_envelope
 from .layout import (
     fit_below_labels,
@@ -69,7 +69,7 @@ def plot_run_analysis(
     Parameters
     ----------
     analysis : RunAnalysis
-        From :func:`pygear.analysis.analyze.analyze_channel`.
+        From :func:`pygear.analysis.signals.analyze.analyze_channel`.
     run_attrs : mapping, optional
         Attributes of the run the channel comes from (``case``, ``scene``,
         ``formulation``), for the title.

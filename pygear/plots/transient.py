@@ -70,7 +70,7 @@ def plot_speeds(datasets: Sequence[xr.Dataset], *, until: float | None = None) -
     Parameters
     ----------
     datasets : sequence of xarray.Dataset
-        Runs from :func:`pygear.analysis.transient.run_transient` (e.g. one per scene).
+        Runs from :func:`pygear.analysis.time.transient.run_transient` (e.g. one per scene).
     until : float, optional
         Last time shown [s]; default the end of the longest run (the paper's Figure 9
         shows the first 2 s of its 5 s run).

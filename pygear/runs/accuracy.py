@@ -1,5 +1,5 @@
 """The accuracy study run: every column of the ladder of
-:mod:`pygear.analysis.accuracy`, in this process or on a local Dask cluster."""
+:mod:`pygear.analysis.time.accuracy`, in this process or on a local Dask cluster."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from collections.abc import Callable
 
 import xarray as xr
 
-from ..analysis.accuracy import (
+from ..analysis.time.accuracy import (
     AccuracyStudy,
     accuracy_grid,
     fidelity_ladder,

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..analysis.modal import modal_analysis
+from ..analysis.modes.modal import modal_analysis
 from ..assembly.drivetrain_model import scene_model
 from ..assembly.matrices import Model
 from ..errors import CaseError
@@ -72,7 +72,7 @@ def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: b
 
 
 def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
-    from ..analysis.sensitivity import frequency_sensitivity
+    from ..analysis.modes.sensitivity import frequency_sensitivity
 
     sensitivity = frequency_sensitivity(model)
     with task_files():
@@ -89,7 +89,7 @@ def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path, figu
 def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
     """The scene's transient as `pygear run` writes it, and its signal analysis: the
     NetCDF files first, the figures after them."""
-    from ..analysis.transient import transient_summary
+    from ..analysis.time.transient import transient_summary
     from .outputs import write_run_signals
     from .transient_outputs import write_sensor_figures, write_speed_figure, write_transient
 

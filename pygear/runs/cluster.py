@@ -176,8 +176,8 @@ WORKER_MODULES = (
     "distributed",
     "dask.array",
     "netCDF4",
-    "pygear.analysis.transient",
-    "pygear.analysis.analyze",
+    "pygear.analysis.time.transient",
+    "pygear.analysis.signals.analyze",
     "pygear.runs.sweep_points",
     "pygear.runs.batch",
 )

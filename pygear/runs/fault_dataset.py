@@ -5,7 +5,7 @@ A record is a transient of a scene with a sensor: one tooth of one gear carries 
 fault at the record's severity, the carrier turns steadily at the record's speed under
 the record's torque, and the sensor's measurement noise uses the record's seed.  The
 seeds of one (severity, speed, load) share one simulation: noise is added after the run
-exactly as :func:`pygear.analysis.sensor_signal.add_noise` adds it during one.  Each
+exactly as :func:`pygear.analysis.condition.sensor_signal.add_noise` adds it during one.  Each
 record is written as ``record_<hash>.nc``, named by the hash of everything it depends on
 (the modified case and scene, the seed, pygear's sources), so a rerun, or a larger grid
 into the same directory, reuses every record already there.  ``dataset_<hash>.nc`` holds
@@ -353,7 +353,7 @@ def _tasks(plan: DatasetPlan, out: Path) -> tuple[list[RecordTask], list[str], i
 
 
 def _sensor_channel(scene: Scene, sensor: str) -> str:
-    """The channel name of the sensor's probe (:mod:`pygear.analysis.channels`)."""
+    """The channel name of the sensor's probe (:mod:`pygear.analysis.signals.channels`)."""
     probe = next(
         p for p in scene.transient.probes if p.quantity == "sensor" and p.target == sensor
     )
@@ -363,10 +363,10 @@ def _sensor_channel(scene: Scene, sensor: str) -> str:
 def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dataset:
     """One record: the noisy sensor channel, the tachometer, the gear's average, the
     indicators and the labels."""
-    from ..analysis.channels import channel_series
-    from ..analysis.gear_average import gear_average, gear_indicator_values, member_angle
-    from ..analysis.sensor_signal import add_noise
-    from ..analysis.synchronous_average import synthetic_tachometer
+    from ..analysis.condition.gear_average import gear_average, gear_indicator_values, member_angle
+    from ..analysis.condition.sensor_signal import add_noise
+    from ..analysis.condition.synchronous_average import synthetic_tachometer
+    from ..analysis.signals.channels import channel_series
 
     channel = _sensor_channel(task.scene, task.sensor)
     clean = channel_series(run, channel)
@@ -420,7 +420,7 @@ def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dat
 
 def run_record_task(task: RecordTask) -> list[dict]:
     """Simulate one (severity, speed, load) and write a record per seed; never raises."""
-    from ..analysis.transient import run_transient
+    from ..analysis.time.transient import run_transient
     from ..io import atomic_path
     from .cluster import task_files
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from ..analysis.mesh_stiffness import mesh_stiffness_at_constant_speed, mesh_summary
+from ..analysis.contact.mesh_stiffness import mesh_stiffness_at_constant_speed, mesh_summary
 from ..model.case import Case, load_case
 
 __all__ = ["mesh_stiffness_report", "write_mesh_stiffness"]
@@ -44,7 +44,7 @@ def mesh_stiffness_report(
     dataset : xarray.Dataset
         The mesh stiffness along the constant-speed kinematics.
     summary : dict
-        :func:`pygear.analysis.mesh_stiffness.mesh_summary` of it, by mesh name.
+        :func:`pygear.analysis.contact.mesh_stiffness.mesh_summary` of it, by mesh name.
     """
     from ..assembly.mesh_laws import with_mesh_law
 

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import xarray as xr
 
-from ..analysis.order_plan import OrderPlan
-from ..analysis.order_tracking import track_orders
+from ..analysis.signals.order_plan import OrderPlan
+from ..analysis.signals.order_tracking import track_orders
 from ..errors import CaseError
 from ..io import save_figure, write_netcdf
 
@@ -49,7 +49,7 @@ def write_order_tracking(
     run : xarray.Dataset
         The run the plan was made for.
     plan : OrderPlan
-        From :func:`pygear.analysis.order_plan.plan_order_tracking` (checked input).
+        From :func:`pygear.analysis.signals.order_plan.plan_order_tracking` (checked input).
     directory : Path
         Target directory (created if missing).
     source : str

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..analysis.signal import SignalError
+from ..analysis.signals.signal import SignalError
 from ..io import write_netcdf
 from ..model.case import Case, Scene
 from ..model.case_json import case_json
@@ -137,7 +137,7 @@ def analysis_references(case: Case, model, run: xr.Dataset) -> xr.Dataset:
     ``mesh_stage``: each stage's mesh frequency at the run's equilibrium speeds and
     the tooth number it counts (:func:`mesh_frequency`).
     """
-    from ..analysis.modal import modal_analysis
+    from ..analysis.modes.modal import modal_analysis
 
     modal = modal_analysis(model)
     stages = _stage_mesh_frequencies(case, run)
@@ -230,10 +230,10 @@ def write_signal_analysis(
 ):
     """Analyse one channel of a run; write ``<stem>_<channel>.nc`` and then, with
     ``figure``, ``<stem>_<channel>.png`` (the channel name with ``:`` as ``_``,
-    :func:`pygear.analysis.channels.channel_file_part`).  The spectra file keeps the
+    :func:`pygear.analysis.signals.channels.channel_file_part`).  The spectra file keeps the
     run's case, scene, formulation, input hash and case JSON."""
-    from ..analysis.analyze import analyze_channel
-    from ..analysis.channels import channel_file_part
+    from ..analysis.signals.analyze import analyze_channel
+    from ..analysis.signals.channels import channel_file_part
 
     analysis = analyze_channel(
         run,
@@ -275,8 +275,8 @@ def _signal_figure(analysis, base: Path, run_attrs) -> Path:
 
 
 def acceleration_channels(dataset) -> list[str]:
-    """The channel names (:mod:`pygear.analysis.channels`) of a run's accelerations."""
-    from ..analysis.channels import run_channels
+    """The channel names (:mod:`pygear.analysis.signals.channels`) of a run's accelerations."""
+    from ..analysis.signals.channels import run_channels
 
     return [
         name
@@ -294,7 +294,7 @@ def write_run_signals(
     They go to ``directory/spectra/<stem>_<channel>.*``: beside the scene files, a
     glob such as ``runup*.nc`` then finds the scenes alone (open_mfdataset of a batch).
     """
-    from ..analysis.channels import channel_file_part
+    from ..analysis.signals.channels import channel_file_part
     from ..model.case import SIGNAL_AFTER
 
     directory = Path(directory) / SPECTRA_DIRECTORY
@@ -317,7 +317,7 @@ def write_run_signals(
         files += written
         analyses.append(analysis)
     if figures:
-        from ..analysis.signal import clear_plan_cache
+        from ..analysis.signals.signal import clear_plan_cache
 
         clear_plan_cache()  # the FFT plans' aligned buffers (MBs each) before the figures
         for analysis in analyses:

@@ -6,8 +6,8 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..analysis.transient import transient_problem
-from ..analysis.transient_checks import FOOTPRINT_HINT, signal_footprint, transient_footprint
+from ..analysis.time.transient import transient_problem
+from ..analysis.time.transient_checks import FOOTPRINT_HINT, signal_footprint, transient_footprint
 from ..assembly.drivetrain_model import scene_model
 from ..model.case import Case, Scene
 from ..resources import require_disk

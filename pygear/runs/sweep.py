@@ -141,7 +141,7 @@ def run_sweep(
         The case to modify.
     params : sequence of (path, values)
         Parameter paths such as ``planetary.sun_mesh.stiffness`` and their values:
-        numbers, or text as for :func:`~pygear.analysis.sensitivity.parse_values`.
+        numbers, or text as for :func:`~pygear.analysis.modes.sensitivity.parse_values`.
     zip_params : bool
         Pair the parameters' values one to one instead of forming their grid.
     scene : str, optional

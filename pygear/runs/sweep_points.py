@@ -28,8 +28,8 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from ..analysis.modal import modal_analysis
-from ..analysis.sensitivity import frequency_sensitivity, parse_values
+from ..analysis.modes.modal import modal_analysis
+from ..analysis.modes.sensitivity import frequency_sensitivity, parse_values
 from ..assembly.drivetrain_model import scene_model
 from ..assembly.matrices import Model, assemble
 from ..errors import CaseError
@@ -337,7 +337,7 @@ def _sensitivity_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
 def _transient_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
     """A run reduced to what a sweep compares: t_s, equilibrium speeds, and the RMS and
     peak of each mesh force's dynamic part over the averaging window."""
-    from ..analysis.transient import run_transient
+    from ..analysis.time.transient import run_transient
 
     run = run_transient(case, scene, formulation=model.formulation)
     window = float(run.attrs.get("mean_window", 1.0))

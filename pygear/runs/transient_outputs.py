@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..analysis.transient import run_transient, transient_problem
-from ..analysis.transient_checks import check_transient_disk
+from ..analysis.time.transient import run_transient, transient_problem
+from ..analysis.time.transient_checks import check_transient_disk
 from ..assembly.matrices import Model
 from ..errors import CaseError
 from ..io import WriteInterrupted, save_figure, signals_interrupt, write_netcdf
@@ -119,8 +119,8 @@ def write_sensor_figures(dataset: xr.Dataset, directory: Path, scene: str) -> li
     """Each sensor channel's carrier-order spectrum around the first two mesh harmonics,
     sidebands labelled (``<scene>_<channel>_orders.png``); none for a run shorter than
     two carrier revolutions or without the carrier's angle."""
-    from ..analysis.channels import channel_file_part, channel_series, run_channels
-    from ..analysis.sensor_signal import sensor_carrier_orders
+    from ..analysis.condition.sensor_signal import sensor_carrier_orders
+    from ..analysis.signals.channels import channel_file_part, channel_series, run_channels
 
     written = []
     for name, (variable_name, _, _) in run_channels(dataset).items():

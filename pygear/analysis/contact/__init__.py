@@ -1,0 +1,1 @@
+"""What the teeth give: the mesh stiffness of every mesh along the ideal kinematics."""

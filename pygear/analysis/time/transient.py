@@ -1,0 +1,560 @@
+"""Transient analysis of a scene: the run-up of docs/model.md §6.3 and its equilibrium table.
+
+:func:`transient_problem` turns a case and a scene with ``Transient`` settings into
+a :class:`~pygear.kernel.newmark.BandedNewmark` integrator with its laws, meshes and
+probes; :func:`run_transient` runs it and returns an ``xarray.Dataset`` (the probes
+grouped by kind over ``time`` and named labels, docs/data_model.md; the equilibrium
+speeds, t_s and every setting as attributes).  Writing it to files is
+:func:`pygear.runs.transient_outputs.write_transient`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from ...assembly.dof_rows import dof_row, rigid_rotation
+from ...assembly.effects import effect_attributes
+from ...assembly.matrices import Model, assemble
+from ...assembly.mesh_backlash import line_of_action_backlash
+from ...errors import CaseError
+from ...kernel.newmark import (
+    BandedNewmark,
+    KernelProbe,
+    MeshTerms,
+    RunResult,
+    TransientError,
+)
+from ...linalg import generalized_eigh
+from ...model.case import Case, Scene, defects_json
+from ...model.components import PlanetaryStage
+from ...model.transient_settings import Transient
+from ...rigid_modes import rigid_body_mask
+from ..condition.sensor_signal import AUXILIARY_PREFIX, compile_scene_probes, sensor_signal
+from ..signals.probes import RPM_PER_RAD_S, state_probes
+from .run_layout import grouped_variables, sensor_coordinates
+from .transient_checks import (
+    check_static_deflection,
+    check_transient_memory,
+    peak_torque,
+    with_soft_mesh_cause,
+)
+from .transient_loads import default_member, kinematic_ratio, law_arrays, member_row
+
+__all__ = [
+    "TransientProblem",
+    "equilibrium_table",
+    "runup_table_text",
+    "transient_summary",
+    "member_speeds",
+    "static_mesh_deflections",
+    "run_transient",
+    "transient_problem",
+]
+
+
+@dataclass
+class TransientProblem:
+    """Everything a transient run needs, built and checked before it starts."""
+
+    case: Case
+    scene: Scene
+    settings: Transient
+    model: Model
+    solver: BandedNewmark
+    probes: list[KernelProbe]
+    input_label: str
+    output_label: str
+    ratio: float
+    contact_sign: np.ndarray
+    effects: tuple[str, ...]
+    drive_sign: int = 1  # -1: input member and drive law mirrored in the kernel
+    static_deflection: np.ndarray | None = None  # per mesh, under the peak drive [m]
+    sensors: tuple = ()  # SensorPlan per sensor probe (pygear.analysis.condition.sensor_signal)
+    initial_velocity: np.ndarray | None = None  # reduced DOFs at t = 0, None: at rest
+    initial_displacement: np.ndarray | None = None  # reduced DOFs at t = 0, None: undeflected
+
+
+def static_mesh_deflections(
+    model: Model, input_row: np.ndarray, output_row: np.ndarray | None, torque: float = 1.0
+) -> np.ndarray:
+    """Mesh deflections b_m . q of the static state under ``torque`` on the input member.
+
+    The output member is held (a stiff torsional spring); without one, the drive is
+    balanced by the inertia forces of the rigid-body acceleration (inertia relief).
+    """
+    k = np.array(model.stiffness, dtype=np.float64)
+    force = torque * input_row
+    if output_row is not None and np.any(output_row):
+        k = k + 1e3 * np.abs(np.diag(k)).max() * np.outer(output_row, output_row)
+    else:
+        values, vectors = generalized_eigh(k, model.mass)
+        rigid = vectors[:, rigid_body_mask(values)]
+        force = force - model.mass @ rigid @ (rigid.T @ force)
+    q = np.linalg.lstsq(k, force, rcond=None)[0]
+    return np.array([mesh.deflection @ q for mesh in model.meshes])
+
+
+def transient_problem(
+    case: Case, scene: Scene, *, formulation: str | None = None, model: Model | None = None
+) -> TransientProblem:
+    """Assemble, check and set up the transient of ``scene``; nothing is integrated.
+
+    Raises
+    ------
+    CaseError
+        A setting, a member or a probe target that does not fit the model.
+    """
+    path = f"scenes.{scene.name}.transient"
+    settings = scene.transient
+    if settings is None:
+        raise CaseError(f"{path}: scene {scene.name!r} has no transient settings")
+    settings.validate(path)
+    if model is None and case.drivetrain is not None:  # the whole drivetrain
+        from ...assembly.drivetrain_model import drivetrain_transient_model
+
+        model = drivetrain_transient_model(case, scene)
+    model = model or assemble(case, scene, formulation=formulation)
+    effects = tuple(scene.effects)
+    varying = "time_varying_mesh_stiffness" in effects
+    separation = "tooth_separation" in effects
+    if settings.restart_at_jumps and separation:
+        raise CaseError(
+            f"{path}.restart_at_jumps does not combine with the tooth_separation effect "
+            "(an open contact is a contact state, not a stiffness jump of the table)"
+        )
+    backlash = None
+    if separation and model.meshes:
+        # the teeth part within the backlash and meet again on the coast flanks
+        backlash = line_of_action_backlash(case, model, "tooth_separation")
+    input_label = settings.input or default_member(case, "carrier")
+    output_label = settings.output or default_member(case, "sun")
+    input_row = member_row(model, input_label, f"{path}.input")
+    output_row = member_row(model, output_label, f"{path}.output")
+    load = settings.load
+    ratio = math.nan
+    if load is not None and load.kind == "generator":
+        ratio = load.ratio or kinematic_ratio(case, model, input_label, output_label)
+        if ratio < 0:
+            # the output turns against the input: the law acts on its speed along the
+            # input's sense, so it still brakes the output's actual rotation
+            output_row = -output_row
+            ratio = -ratio
+    elif load is not None and peak_torque(load) > 0:
+        # a law of time brakes the output's rotation too: against the input's sense
+        # when the output turns the other way (a parallel stage, a generator behind it)
+        try:
+            if kinematic_ratio(case, model, input_label, output_label) < 0:
+                output_row = -output_row
+        except CaseError:
+            pass  # no one rigid rotation links them: the load acts along the output DOF
+    omega_0 = (settings.speed_reference_rpm or 0.0) / RPM_PER_RAD_S
+    direction = settings.drive.direction() if settings.drive is not None else 1
+
+    n_mesh = len(model.meshes)
+    if settings.contact_sign is not None:
+        if len(settings.contact_sign) != n_mesh:
+            raise CaseError(f"{path}.contact_sign must hold one sign per mesh ({n_mesh})")
+        contact_sign = np.array(settings.contact_sign, dtype=np.int32)
+    else:
+        deflection = static_mesh_deflections(model, input_row, output_row, float(direction))
+        contact_sign = np.where(deflection < 0, -1, 1).astype(np.int32)
+    # a load holds the output at equilibrium (the mesh carries the whole drive torque);
+    # without one the drive only accelerates the gearbox (inertia relief)
+    held = output_row if peak_torque(settings.load) > 0 else None
+    static = check_static_deflection(
+        model, settings, static_mesh_deflections(model, input_row, held), path
+    )
+    meshes = None
+    if n_mesh:  # without either effect the kernel only reads them for mesh probes
+        table = None
+        angle = np.zeros((n_mesh, model.size))
+        if varying:
+            from ...assembly.contact_table import build_contact_table
+
+            sun_driven = ".sun." not in input_label
+            table = build_contact_table(
+                case, model, scene, direction=direction, sun_driven=sun_driven
+            )
+            for m, members in enumerate(table.angles):
+                for member, sign in zip(members, (1.0, -1.0)):
+                    row = dof_row(model, f"{member}.theta_z")
+                    if row is not None:
+                        angle[m] += sign * row
+        meshes = MeshTerms(
+            deflection=np.array([mesh.deflection for mesh in model.meshes]),
+            mean_stiffness=np.array([mesh.mean_stiffness for mesh in model.meshes]),
+            contact_sign=contact_sign,
+            angle=angle,
+            table=table,
+            time_varying=varying,
+            separation=separation,
+            names=[mesh.name for mesh in model.meshes],
+            backlash=backlash,
+        )
+    probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
+    if settings.full_state:
+        probes += state_probes(model)
+    check_transient_memory(settings, len(probes), path)
+    solver = BandedNewmark(
+        model.mass,
+        model.damping,
+        model.stiffness,
+        settings.time_step,
+        integrator=settings.integrator,
+        spectral_radius=settings.spectral_radius,
+        meshes=meshes,
+        equivalent_load=settings.equivalent_load,
+        tolerance=settings.tolerance,
+        max_iterations=settings.max_iterations,
+        refactor_threshold=settings.refactor_threshold,
+        restart_at_jumps=settings.restart_at_jumps,
+        # the kernel measures the input speed (t_s) along the drive's sense: a negative
+        # drive runs with the input member and the drive law mirrored (same force)
+        drive=law_arrays(settings.drive, ratio, omega_0, sign=direction),
+        load=law_arrays(load, ratio, omega_0),
+        input_weights=direction * input_row,
+        output_weights=output_row,
+        speed_reference=omega_0,
+        deflection_limit=settings.deflection_limit,
+        labels=model.dof_labels,
+    )
+    problem = TransientProblem(
+        case,
+        scene,
+        settings,
+        model,
+        solver,
+        probes,
+        input_label,
+        output_label,
+        ratio,
+        contact_sign,
+        effects,
+        drive_sign=direction,
+        static_deflection=static,
+        sensors=sensors,
+    )
+    problem.initial_velocity = initial_velocity(problem)
+    if settings.start_loaded:
+        problem.initial_displacement = loaded_displacement(problem)
+    return problem
+
+
+def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
+    """Member speeds [rpm] and planet tangential speeds [m/s] from mean DOF velocities.
+
+    Keys are the bodies' names (``planetary.carrier``, ``stage1.sun``), as a run file's
+    ``body`` and ``member`` coordinates give them.  A planet's speed is its theta_z DOF:
+    the spin relative to the carrier (improved, consistent) or in the carrier frame
+    (lin-parker).
+    """
+    speeds, tangential = {}, {}
+    for node in model.nodes:
+        if node.role == "housing":
+            continue
+        key = node.name
+        row = dof_row(model, f"{node.name}.theta_z")
+        if row is not None:
+            speeds[key] = float(row @ mean_velocity * RPM_PER_RAD_S)
+        eta = dof_row(model, f"{node.name}.eta")
+        if node.role == "planet" and eta is not None:
+            tangential[key] = float(eta @ mean_velocity)
+    return {"speed_rpm": speeds, "tangential_speed": tangential}
+
+
+def run_transient(
+    case: Case,
+    scene: Scene,
+    *,
+    formulation: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 60.0,
+    resume: str | os.PathLike | None = None,
+    problem: TransientProblem | None = None,
+) -> xr.Dataset:
+    """Run the transient of ``scene`` and return its dataset (nothing is written).
+
+    Raises
+    ------
+    CaseError
+        Bad settings, refused before the run.
+    TransientError
+        The run diverged (message: time, DOF or mesh, likely cause).
+    TransientInterrupted
+        Ctrl-C between two chunks.
+    """
+    started = time.perf_counter()
+    problem = problem or transient_problem(case, scene, formulation=formulation)
+    settings = problem.settings
+    keyed = checkpoint is not None or resume is not None
+    try:
+        result = problem.solver.run(
+            settings.steps,
+            problem.probes,
+            v0=problem.initial_velocity,
+            q0=problem.initial_displacement,
+            decimation=settings.decimation,
+            window_steps=int(round(settings.mean_window / settings.time_step)),
+            progress=progress,
+            checkpoint=checkpoint,
+            checkpoint_every=checkpoint_every,
+            resume=resume,
+            identity=checkpoint_identity(problem) if keyed else "",
+        )
+    except TransientError as error:
+        static = problem.static_deflection
+        if static is None:
+            raise
+        raise with_soft_mesh_cause(error, problem.model, static, settings) from None
+    dataset = _dataset(problem, result)
+    dataset.attrs["wall_s"] = time.perf_counter() - started
+    return dataset
+
+
+def initial_velocity(problem: TransientProblem) -> np.ndarray | None:
+    """The rigid-body rotation at ``initial_speed_rpm`` of the input member, or None
+    (from rest)."""
+    speed = problem.settings.initial_speed_rpm / RPM_PER_RAD_S
+    if speed == 0.0:
+        return None
+    rigid = rigid_rotation(problem.model)
+    path = f"scenes.{problem.scene.name}.transient.initial_speed_rpm"
+    input_speed = dof_row(problem.model, problem.input_label) @ rigid if rigid is not None else 0
+    if rigid is None or abs(input_speed) < 1e-9 * np.abs(rigid).max():
+        raise CaseError(
+            f"{path}: the model has no single free rigid-body rotation that turns the input "
+            f"member {problem.input_label!r}, so there is no steady rotation to start on"
+        )
+    return rigid * (speed / input_speed)
+
+
+def loaded_displacement(problem: TransientProblem) -> np.ndarray:
+    """The static deflection under the torques at t = 0 with inertia relief.
+
+    The kernel's own torques at t = 0 (drive T_D on the input, load T_L against the
+    output, at the initial speed) give the force f = T_D w_in - T_L w_out.  Its part
+    along the rigid-body rotations, M Phi Phi^T f (Phi mass-normalised), accelerates
+    the drivetrain; the rest deflects it: K0 q = f - M Phi Phi^T f with Phi^T M q = 0,
+    solved as (K0 + M Phi Phi^T M) q = f - M Phi Phi^T f.  The equation of motion then
+    gives the rigid-body acceleration at t = 0 and no elastic one (at mean mesh
+    stiffness), so nothing swings.
+    """
+    model, solver = problem.model, problem.solver
+    state = solver.start(v0=problem.initial_velocity)
+    drive, load = float(state["rstate"][1]), float(state["rstate"][2])
+    force = drive * solver.input_weights - load * solver.output_weights
+    stiffness = np.asarray(model.stiffness, dtype=np.float64)
+    mass = np.asarray(model.mass, dtype=np.float64)
+    values, vectors = generalized_eigh(stiffness, mass)
+    rigid = vectors[:, rigid_body_mask(values)]
+    relieved = force - mass @ rigid @ (rigid.T @ force)
+    regularised = stiffness + mass @ rigid @ rigid.T @ mass
+    return np.linalg.solve(regularised, relieved)
+
+
+def checkpoint_identity(problem: TransientProblem) -> str:
+    """Hash (16 hex digits) of what shapes a run's state and file beyond the solver's
+    arrays: every input of the case and of the scene but its list of analyses (which
+    write other files), the model's formulation and DOF set, the members driven, and
+    the code (:func:`pygear.io.source_identity`).  A checkpoint keyed by it resumes
+    only the run that wrote it."""
+    from ... import io
+
+    case = {f.name: getattr(problem.case, f.name) for f in dataclasses.fields(problem.case)}
+    case.pop("scenes", None)  # other scenes do not shape this one
+    scene = {f.name: getattr(problem.scene, f.name) for f in dataclasses.fields(problem.scene)}
+    scene.pop("analyses", None)
+    model = problem.model
+    return io.stable_digest(
+        (
+            case,
+            scene,
+            (model.formulation, model.dof_set, problem.input_label, problem.output_label),
+            (problem.ratio, problem.contact_sign, problem.effects),
+            io.source_identity(),
+        )
+    )
+
+
+def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
+    """The run as docs/data_model.md lays it out: channels grouped by kind over labels."""
+    model, settings, solver = problem.model, problem.settings, problem.solver
+    series = []
+    auxiliary = {}
+    for probe, values in zip(problem.probes, result.samples):
+        if problem.sensors and probe.name.startswith(AUXILIARY_PREFIX):
+            auxiliary[probe.name] = values
+            continue
+        if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
+            values = problem.drive_sign * values
+        series.append((probe.name, values, probe.attrs))
+    sensors = []
+    if problem.sensors:
+        rate = 1.0 / (settings.decimation * settings.time_step)
+        for plan in problem.sensors:
+            values, attrs = sensor_signal(plan, auxiliary, rate)
+            if plan.named:
+                series.append((plan.variable, values, {**attrs, "named": True}))
+            else:
+                series.append((plan.variable, values, {**attrs, "label": plan.sensor.name}))
+                sensors.append((plan.sensor.name, attrs))
+    data_vars, coords = grouped_variables(series)
+    coords.update(sensor_coordinates(sensors))
+    table = equilibrium_table(model, result.mean_velocity)
+    bodies = list(table["speed_rpm"])
+    planets = list(table["tangential_speed"])
+    data_vars["equilibrium_speed"] = (
+        ("body",),
+        np.array([table["speed_rpm"][m] for m in bodies]),
+        {
+            "units": "rpm",
+            "long_name": f"mean theta_z speed over the last {settings.mean_window:g} s",
+        },
+    )
+    data_vars["planet_tangential_speed"] = (
+        ("planet",),
+        np.array([table["tangential_speed"][p] for p in planets]),
+        {
+            "units": "m/s",
+            "long_name": f"mean eta velocity over the last {settings.mean_window:g} s",
+        },
+    )
+    data_vars["t_s"] = (
+        (),
+        result.t_s,
+        {"units": "s", "long_name": "first instant the input speed reaches omega_0"},
+    )
+    coords.update(
+        {
+            "time": ("time", result.time, {"units": "s", "long_name": "time since the start"}),
+            "body": ("body", np.array(bodies, dtype=object), {"long_name": "rotating body"}),
+            "planet": ("planet", np.array(planets, dtype=object), {"long_name": "planet"}),
+        }
+    )
+    c = solver.coefficients
+    attrs = {
+        "case": problem.case.name,
+        "scene": problem.scene.name,
+        "formulation": model.formulation,
+        "dof_set": model.dof_set,
+        "whole_drivetrain": int(model.attributes.get("drivetrain", 0)),
+        "start_loaded": int(settings.start_loaded),
+        "effects": ", ".join(problem.effects) or "none (constant mesh stiffness)",
+        "integrator": settings.integrator,
+        "spectral_radius": c["rho_inf"],
+        "newmark_beta": c["beta"],
+        "newmark_gamma": c["gamma"],
+        "alpha_m": c["alpha_m"],
+        "alpha_f": c["alpha_f"],
+        "equivalent_load": solver.equivalent_load,
+        "tolerance": settings.tolerance,
+        "time_step": settings.time_step,
+        "duration": result.steps * settings.time_step,
+        "sample_rate": 1.0 / (settings.decimation * settings.time_step),
+        "steps": result.steps,
+        "bandwidth": solver.bandwidth,
+        "linear_solver": solver.linear_solver,  # pygear.kernel.newmark_support
+        "linear_solver_reason": solver.linear_solver_reason,
+        "input": problem.input_label,
+        "output": problem.output_label,
+        "drive": settings.drive.describe() if settings.drive else "none",
+        "load": settings.load.describe() if settings.load else "none",
+        "speed_ratio": problem.ratio,
+        "speed_reference_rpm": settings.speed_reference_rpm or 0.0,
+        "rayleigh_alpha": problem.case.damping.mass_coefficient,
+        "rayleigh_beta": problem.case.damping.stiffness_coefficient,
+        "contact_sign": " ".join(str(int(s)) for s in problem.contact_sign),
+        "mean_window": settings.mean_window,
+        "solver_wall_s": result.solver_wall_s,
+        **{f"solver_{k}": v for k, v in result.counters.items()},
+        **effect_attributes(model, solver.equivalent_load),  # pygear.assembly.effects
+    }
+    attrs["tooth_defects"] = defects_json(problem.case, problem.scene)
+    ring, carrier = _first_ring_teeth(problem.case)
+    if ring and carrier in table["speed_rpm"] and len(problem.case.gearbox.stages) == 1:
+        attrs["mesh_frequency_hz"] = ring * table["speed_rpm"][carrier] / 60.0
+    return xr.Dataset(data_vars, coords, attrs)
+
+
+def _first_ring_teeth(case: Case) -> tuple[int | None, str]:
+    """The ring's tooth count and the carrier's body name of the first planetary stage."""
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage):
+            return stage.ring.teeth, f"{stage.name}.carrier"
+    return None, ""
+
+
+def member_speeds(dataset: xr.Dataset) -> dict[str, float]:
+    """Equilibrium speeds [rpm] by member: ``carrier``, ``sun``, ... for a single stage
+    (its name dropped), ``stage.member`` for a gearbox."""
+    speeds = dict(zip(dataset.body.values.tolist(), dataset.equilibrium_speed.values.tolist()))
+    stages = {str(name).split(".", 1)[0] for name in speeds}
+    if len(stages) != 1:
+        return speeds
+    return {str(name).split(".", 1)[1]: value for name, value in speeds.items()}
+
+
+def transient_summary(dataset: xr.Dataset) -> dict:
+    """The numbers ``pygear run --json`` prints for a transient scene."""
+    tangential = dataset.planet_tangential_speed.values
+    t_s = float(dataset.t_s)
+    return {
+        "t_s": t_s if math.isfinite(t_s) else None,
+        "equilibrium_speed_rpm": member_speeds(dataset),
+        "planet_tangential_speed": float(tangential[0]) if tangential.size else None,
+        "steps": int(dataset.attrs["steps"]),
+        "solver_wall_s": float(dataset.attrs["solver_wall_s"]),
+        "equivalent_load": dataset.attrs["equivalent_load"],
+    }
+
+
+def runup_table_text(datasets: dict[str, xr.Dataset]) -> str:
+    """The run-up table (the seed's Table 3) of several runs side by side."""
+    names = list(datasets)
+    rows = [("", [datasets[n].attrs["formulation"] for n in names])]
+    speeds = {n: member_speeds(datasets[n]) for n in names}
+
+    def speed(name: str, member: str) -> float:
+        return speeds[name].get(member, math.nan)
+
+    rows.append(("t_s [s]", [f"{float(datasets[n].t_s):.4f}" for n in names]))
+    members = list(speeds[names[0]])
+    if "carrier" not in members:  # a gearbox: every member's speed, stage by stage
+        for member in members:
+            rows.append((f"{member} [rpm]", [f"{speed(n, member):.3f}" for n in names]))
+        return _table_text(names, rows)
+    for member in ("carrier", "sun", "planet1"):
+        rows.append((f"{member} [rpm]", [f"{speed(n, member):.3f}" for n in names]))
+    rows.append(("sun/carrier", [f"{speed(n, 'sun') / speed(n, 'carrier'):.5f}" for n in names]))
+    rows.append(
+        (
+            "planet1 tangential [m/s]",
+            [
+                f"{float(datasets[n].planet_tangential_speed[0]):.4f}"
+                if datasets[n].planet_tangential_speed.size
+                else "-"
+                for n in names
+            ],
+        )
+    )
+    return _table_text(names, rows)
+
+
+def _table_text(names: list[str], rows: list[tuple[str, list[str]]]) -> str:
+    label_width = max(26, *(len(label) + 2 for label, _ in rows))
+    width = max(12, *(len(n) for n in names))
+    lines = [f"{'':<{label_width}}" + "".join(f"{n:>{width + 2}}" for n in names)]
+    lines += [
+        f"{label:<{label_width}}" + "".join(f"{v:>{width + 2}}" for v in values)
+        for label, values in rows
+    ]
+    return "\n".join(lines)
