@@ -1,0 +1,194 @@
+"""Bodies of a gearbox: a rigid body, a gear and the planet carrier, each with its
+validation beside its fields (SI values; see :mod:`pygear.model.components`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import CaseError
+from .component_rules import (
+    derived_record,
+    is_whole_number,
+    require_non_negative,
+    require_positive,
+)
+from .gear_geometry import GearGeometry
+from .geometry_inputs import check_gear, fill_gear
+
+__all__ = [
+    "DEFAULT_BORE_RATIO",
+    "MODULE_PRESSURE_ANGLE_DEG",
+    "TOOTH_RATIO_TOLERANCE",
+    "Body",
+    "Carrier",
+    "Gear",
+    "require_matching_teeth",
+]
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body on the stage axis (a rotor or generator inertia, a shaft).
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg], > 0.
+    polar_inertia : float
+        Moment of inertia about the axis [kg m^2], > 0.
+    tilt_inertia : float
+        Moment of inertia about a diameter (bending, x and y) [kg m^2], > 0.
+    """
+
+    mass: float
+    polar_inertia: float
+    tilt_inertia: float
+    _derived: tuple = derived_record()
+
+    def validate(self, path: str) -> None:
+        for name in ("mass", "polar_inertia", "tilt_inertia"):
+            require_positive(f"{path}.{name}", getattr(self, name))
+
+
+MODULE_PRESSURE_ANGLE_DEG = 45.0
+"""The pressure angle a gear's module implies, acos(2 r_b / (m Z)), must lie below this
+(the range :class:`Mesh` accepts for ``pressure_angle_deg``)."""
+
+
+@dataclass(frozen=True)
+class Gear(Body):
+    """A gear: a body with a base radius and (optionally) a tooth number, a module and
+    its involute geometry.
+
+    Parameters
+    ----------
+    base_radius : float
+        Base-circle radius r_b [m], > 0; derived from ``geometry`` when left out (a typed
+        value must agree with it within 0.5 %).
+    teeth : int or None
+        Number of teeth Z, a whole number >= 3; needed for phasing and the tooth-contact
+        table.  The tooth numbers of meshing gears must fit their base radii
+        (:data:`TOOTH_RATIO_TOLERANCE`).
+        Derived from ``geometry`` when left out.
+    module : float or None
+        Transverse module m_t [m] (the normal module over cos(beta) for a helical
+        gear), optional and used only as a check: r_b = m_t Z cos(alpha_t) / 2, so
+        2 r_b / (m_t Z) must be the cosine of a pressure angle in (0, 45) degrees.
+    geometry : GearGeometry or None
+        The gear's involute geometry (ISO 21771); with it the stage derives its meshes'
+        pressure angles, contact and overlap ratios and backlash, and the mesh laws
+        ``iso6336`` and ``potential_energy`` their stiffness (docs/gear_geometry.md).
+    bore_radius : float or None
+        Radius of the bore or hub seat r_int [m], for the fillet-foundation term of the
+        ``potential_energy`` law (Sainsot et al. 2004); 0 leaves the term out (a rigid
+        body).  None takes half the root radius (:data:`DEFAULT_BORE_RATIO`).  Unused
+        for a ring, whose rim the law takes as rigid.
+    """
+
+    base_radius: float = float("nan")
+    teeth: int | None = None
+    module: float | None = None
+    geometry: GearGeometry | None = None
+    bore_radius: float | None = None
+
+    def __post_init__(self) -> None:
+        fill_gear(self)
+
+    def validate(self, path: str) -> None:
+        super().validate(path)
+        check_gear(self, path)
+        if self.bore_radius is not None:
+            require_non_negative(f"{path}.bore_radius", self.bore_radius)
+        require_positive(f"{path}.base_radius", self.base_radius)
+        if self.teeth is not None and (not is_whole_number(self.teeth) or self.teeth < 3):
+            raise CaseError(f"{path}.teeth must be a whole number >= 3 (got {self.teeth!r})")
+        if self.module is None:
+            return
+        require_positive(f"{path}.module", self.module)
+        if self.teeth is None:
+            raise CaseError(
+                f"{path}.module needs its teeth: r_b = m Z cos(alpha) / 2 checks the module "
+                f"against {path}.teeth, which is not given"
+            )
+        cosine = 2 * self.base_radius / (self.module * self.teeth)
+        if not math.cos(math.radians(MODULE_PRESSURE_ANGLE_DEG)) < cosine < 1:
+            implied = f"{math.degrees(math.acos(cosine)):.3g} deg" if cosine < 1 else "none"
+            raise CaseError(
+                f"{path}.module: m = {self.module * 1e3:.4g} mm and Z = {self.teeth} do not fit "
+                f"base_radius = {self.base_radius * 1e3:.4g} mm: r_b = m Z cos(alpha) / 2 needs "
+                f"a pressure angle alpha in (0, {MODULE_PRESSURE_ANGLE_DEG:g}) deg "
+                f"(implied pressure angle: {implied})"
+            )
+
+
+DEFAULT_BORE_RATIO = 0.5
+"""Bore radius over root radius of a gear whose ``bore_radius`` is left out: h_fi = r_f /
+r_int = 2, a gear body on a shaft or a planet on its bearing (Tian's 2004 pair has 2.4
+and 2.6).  The fillet foundation is the largest compliance of a tooth pair
+(docs/potential_energy.md), so a case that knows its bores should type them."""
+
+
+TOOTH_RATIO_TOLERANCE = 0.03
+"""How far the tooth-number ratio of two meshing gears may stray from their base-radius
+ratio [-].  Meshing gears share one base pitch 2 pi r_b / Z (r_b = m Z cos(alpha) / 2 with
+the same m and alpha), so Z_2 / Z_1 = r_b2 / r_b1 exactly.  A case still differs from
+that by the rounding of published radii (three significant digits are off by up to
+0.5 % each, so a ratio by up to 1 %: Table 1's 38.7, 50.2 and 137.5 mm with 27, 35 and
+96 teeth agree to 0.14 %) and by a tooth number moved by one for assembly (one tooth
+in 50 or more: 2 %; the gearbox case's 97-tooth ring on Table 1's 96-tooth radius is
+1.1 % off).  3 % allows both; a wrong digit (960 teeth for 96) or another gear's tooth
+number is far beyond."""
+
+
+def require_matching_teeth(path: str, gears: dict[str, Gear]) -> None:
+    """Raise :class:`CaseError` unless the tooth numbers of gears that share one base
+    pitch fit their base radii (:data:`TOOTH_RATIO_TOLERANCE`).
+
+    ``gears`` maps member names to gears; gears without a tooth number are skipped.
+    The message names the gear that disagrees with every other (or the pair).
+    """
+    known = {name: gear for name, gear in gears.items() if gear.teeth is not None}
+    names = list(known)
+    failed = []
+    for i, first in enumerate(names):
+        for second in names[i + 1 :]:
+            a, b = known[first], known[second]
+            teeth_ratio = b.teeth / a.teeth
+            radius_ratio = b.base_radius / a.base_radius
+            if abs(teeth_ratio / radius_ratio - 1) > TOOTH_RATIO_TOLERANCE:
+                failed.append((first, second, teeth_ratio, radius_ratio))
+    if not failed:
+        return
+    common = set.intersection(*({f[0], f[1]} for f in failed))
+    first, second, teeth_ratio, radius_ratio = failed[0]
+    culprit = common.pop() if len(common) == 1 else second
+    other = first if culprit == second else second
+    gear, reference = known[culprit], known[other]
+    implied = reference.teeth * gear.base_radius / reference.base_radius
+    raise CaseError(
+        f"{path}.{culprit}.teeth: {gear.teeth} teeth do not fit the base radii: "
+        f"Z_{culprit}/Z_{other} = {gear.teeth}/{reference.teeth} = "
+        f"{gear.teeth / reference.teeth:.4g} but r_b {culprit}/{other} = "
+        f"{gear.base_radius / reference.base_radius:.4g} (about {implied:.1f} teeth); meshing "
+        f"gears share one base pitch 2 pi r_b/Z, so the ratios must agree within "
+        f"{TOOTH_RATIO_TOLERANCE * 100:g} %"
+    )
+
+
+@dataclass(frozen=True)
+class Carrier(Body):
+    """The planet carrier.
+
+    Parameters
+    ----------
+    radius : float
+        Carrier radius r_c: the distance from the stage axis to each planet centre [m],
+        > 0.
+    """
+
+    radius: float = float("nan")
+
+    def validate(self, path: str) -> None:
+        super().validate(path)
+        require_positive(f"{path}.radius", self.radius)
