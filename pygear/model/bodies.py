@@ -15,6 +15,7 @@ from .component_rules import (
 )
 from .gear_geometry import GearGeometry
 from .geometry_inputs import check_gear, fill_gear
+from .plausibility import warn_if_implausible
 
 __all__ = [
     "DEFAULT_BORE_RATIO",
@@ -49,6 +50,9 @@ class Body:
     def validate(self, path: str) -> None:
         for name in ("mass", "polar_inertia", "tilt_inertia"):
             require_positive(f"{path}.{name}", getattr(self, name))
+        warn_if_implausible(f"{path}.mass", "mass", self.mass)
+        for name in ("polar_inertia", "tilt_inertia"):
+            warn_if_implausible(f"{path}.{name}", "inertia", getattr(self, name))
 
 
 MODULE_PRESSURE_ANGLE_DEG = 45.0
@@ -63,9 +67,9 @@ class Gear(Body):
 
     Parameters
     ----------
-    base_radius : float
-        Base-circle radius r_b [m], > 0; derived from ``geometry`` when left out (a typed
-        value must agree with it within 0.5 %).
+    base_radius : float or None
+        Base-circle radius r_b [m], > 0; derived from ``geometry`` when left out (None;
+        a typed value must agree with it within 0.5 %, and a typed NaN is an error).
     teeth : int or None
         Number of teeth Z, a whole number >= 3; needed for phasing and the tooth-contact
         table.  The tooth numbers of meshing gears must fit their base radii
@@ -86,7 +90,7 @@ class Gear(Body):
         for a ring, whose rim the law takes as rigid.
     """
 
-    base_radius: float = float("nan")
+    base_radius: float | None = None
     teeth: int | None = None
     module: float | None = None
     geometry: GearGeometry | None = None
@@ -100,12 +104,20 @@ class Gear(Body):
         check_gear(self, path)
         if self.bore_radius is not None:
             require_non_negative(f"{path}.bore_radius", self.bore_radius)
+            warn_if_implausible(f"{path}.bore_radius", "radius", self.bore_radius, zero_ok=True)
+        if self.base_radius is None:
+            raise CaseError(
+                f"{path}.base_radius must be given, or derived: give the gear a geometry "
+                "(GearGeometry)"
+            )
         require_positive(f"{path}.base_radius", self.base_radius)
+        warn_if_implausible(f"{path}.base_radius", "radius", self.base_radius)
         if self.teeth is not None and (not is_whole_number(self.teeth) or self.teeth < 3):
             raise CaseError(f"{path}.teeth must be a whole number >= 3 (got {self.teeth!r})")
         if self.module is None:
             return
         require_positive(f"{path}.module", self.module)
+        warn_if_implausible(f"{path}.module", "module", self.module)
         if self.teeth is None:
             raise CaseError(
                 f"{path}.module needs its teeth: r_b = m Z cos(alpha) / 2 checks the module "
@@ -182,13 +194,20 @@ class Carrier(Body):
 
     Parameters
     ----------
-    radius : float
+    radius : float or None
         Carrier radius r_c: the distance from the stage axis to each planet centre [m],
-        > 0.
+        > 0; derived from the gear geometry when left out (None; a typed NaN is an
+        error).
     """
 
-    radius: float = float("nan")
+    radius: float | None = None
 
     def validate(self, path: str) -> None:
         super().validate(path)
+        if self.radius is None:
+            raise CaseError(
+                f"{path}.radius must be given, or derived: give the sun and the planet a "
+                "geometry (GearGeometry)"
+            )
         require_positive(f"{path}.radius", self.radius)
+        warn_if_implausible(f"{path}.radius", "radius", self.radius)

@@ -8,16 +8,20 @@ A component keeps its own rules beside its fields (:mod:`pygear.model.bodies`,
 
 from __future__ import annotations
 
+import math
 from dataclasses import field, fields, is_dataclass
 
 import numpy as np
 
 from ..errors import CaseError
+from . import gear_geometry as geo
+from .plausibility import warn_if_implausible
 from .values import is_finite_number, is_whole_number
 
 __all__ = [
     "AXIAL_LIMIT",
     "MAGNITUDE_LIMIT",
+    "check_backlash",
     "derived_record",
     "is_finite_number",
     "is_whole_number",
@@ -26,6 +30,7 @@ __all__ = [
     "require_axial_position",
     "require_non_negative",
     "require_positive",
+    "transverse_module_of",
     "validate_component",
 ]
 
@@ -124,3 +129,39 @@ def validate_component(component: object, path: str, *, validate: bool = True) -
         raise CaseError(f"{path} is not a pygear component (got {type(component).__name__})")
     if validate:
         component.validate(path)
+
+
+def transverse_module_of(gear: object, pressure_angle_deg: float | None) -> float | None:
+    """The transverse module m_t of a gear [m]: from its geometry, else from its base
+    radius and teeth, 2 r_b / (Z cos alpha) at the mesh's pressure angle; None when
+    neither is known (a gear without tooth number)."""
+    geometry = getattr(gear, "geometry", None)
+    if geometry is not None:
+        try:
+            return float(geo.transverse_module(geometry))
+        except (ArithmeticError, ValueError, TypeError, AttributeError):
+            return None
+    teeth = getattr(gear, "teeth", None)
+    if teeth is None or not is_finite_number(pressure_angle_deg):
+        return None
+    return 2.0 * gear.base_radius / (teeth * math.cos(math.radians(pressure_angle_deg)))
+
+
+def check_backlash(path: str, backlash: float | None, module: float | None) -> None:
+    """Raise :class:`CaseError` for a backlash of a whole circular pitch pi m_t or more
+    (the mating tooth would have no thickness); warn (:mod:`pygear.model.plausibility`)
+    above a quarter of the module, a unit mistake (mm typed as m) or a worn-out gear."""
+    if backlash is None or module is None or not is_finite_number(backlash) or module <= 0:
+        return
+    pitch = math.pi * module
+    if backlash >= pitch:
+        raise CaseError(
+            f"{path} must be below the circular pitch pi m_t = {pitch * 1e3:.4g} mm "
+            f"(got {backlash!r} m = {backlash * 1e3:.4g} mm: the mating tooth would have no "
+            f"thickness; a value in mm typed as m?)"
+        )
+    warn_if_implausible(
+        f"{path} / m_t ({backlash!r} m / {module * 1e3:.4g} mm)",
+        "backlash_ratio",
+        backlash / module,
+    )

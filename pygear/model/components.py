@@ -31,6 +31,7 @@ from .bodies import (
 from .component_rules import (
     AXIAL_LIMIT,
     MAGNITUDE_LIMIT,
+    check_backlash,
     derived_record,
     is_finite_number,
     is_whole_number,
@@ -39,6 +40,7 @@ from .component_rules import (
     require_axial_position,
     require_non_negative,
     require_positive,
+    transverse_module_of,
     validate_component,
 )
 from .defects import ToothDefect
@@ -56,6 +58,7 @@ __all__ = [
     "Body",
     "CaseError",
     "Carrier",
+    "check_backlash",
     "Gear",
     "Mesh",
     "PlanetBearing",
@@ -70,5 +73,6 @@ __all__ = [
     "require_matching_teeth",
     "require_non_negative",
     "require_positive",
+    "transverse_module_of",
     "validate_component",
 ]

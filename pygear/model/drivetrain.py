@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from ..errors import CaseError
 from .components import require_non_negative, require_positive
 from .gearbox import Gearbox, member_dofs, reachable
+from .plausibility import warn_if_implausible
 from .values import is_whole_number
 
 __all__ = [
@@ -70,6 +71,8 @@ class ShaftSection:
         require_positive(f"{path}.length", self.length)
         require_positive(f"{path}.outer_diameter", self.outer_diameter)
         require_non_negative(f"{path}.inner_diameter", self.inner_diameter)
+        warn_if_implausible(f"{path}.length", "shaft_length", self.length)
+        warn_if_implausible(f"{path}.outer_diameter", "shaft_diameter", self.outer_diameter)
         if self.inner_diameter >= self.outer_diameter:
             raise CaseError(
                 f"{path}.inner_diameter must be below outer_diameter "
@@ -139,6 +142,7 @@ class Shaft:
             section.validate(f"{path}.sections[{n}]")
         for name in ("young_modulus", "shear_modulus", "density"):
             require_positive(f"{path}.{name}", getattr(self, name))
+            warn_if_implausible(f"{path}.{name}", name, getattr(self, name))
         if not is_whole_number(self.elements_per_section) or self.elements_per_section < 1:
             raise CaseError(
                 f"{path}.elements_per_section must be a whole number >= 1 "

@@ -9,6 +9,7 @@ import warnings
 
 from ..errors import CaseError
 from . import gear_geometry as geo
+from .plausibility import warn_if_implausible
 from .values import is_finite_number
 
 __all__ = [
@@ -38,6 +39,12 @@ def check_gear(gear: geo.GearGeometry, path: str) -> None:
         raise CaseError(f"{path}.teeth must be a whole number of at least 3 (got {teeth!r})")
     _number(f"{path}.normal_module", gear.normal_module, 0.0, 1.0, "a positive length below 1 m")
     _number(f"{path}.face_width", gear.face_width, 0.0, 10.0, "a positive length below 10 m")
+    warn_if_implausible(f"{path}.normal_module", "module", gear.normal_module)
+    warn_if_implausible(
+        f"{path}.face_width / normal_module ({gear.face_width!r} m / {gear.normal_module!r} m)",
+        "face_width_ratio",
+        gear.face_width / gear.normal_module,
+    )
     angle = gear.normal_pressure_angle_deg
     _number(f"{path}.normal_pressure_angle_deg", angle, 0.0, 45.0, "in (0, 45) degrees")
     if angle < 1.0:

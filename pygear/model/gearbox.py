@@ -19,11 +19,13 @@ from .components import (
     Gear,
     Mesh,
     PlanetaryStage,
+    check_backlash,
     derived_record,
     is_whole_number,
     require_axial_position,
     require_matching_teeth,
     require_non_negative,
+    transverse_module_of,
 )
 from .components import is_finite_number as _finite
 from .geometry_inputs import check_parallel_geometry, fill_parallel_stage
@@ -145,6 +147,11 @@ class ParallelStage:
             path, {"input_gear": self.input_gear, "output_gear": self.output_gear}
         )
         require_axial_position(f"{path}.axial_position", self.axial_position)
+        check_backlash(
+            f"{path}.mesh.backlash",
+            self.mesh.backlash,
+            transverse_module_of(self.output_gear, self.mesh.pressure_angle_deg),
+        )
         if self.spur and self.mesh.contact_ratio <= 1:
             raise CaseError(
                 f"{path}.mesh.contact_ratio must exceed 1 for a spur pair "

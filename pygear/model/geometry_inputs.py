@@ -70,7 +70,9 @@ _ARITHMETIC = (ArithmeticError, ValueError, TypeError, AttributeError)
 
 
 def _empty(value: object) -> bool:
-    return value is None or (isinstance(value, float) and math.isnan(value))
+    """True for a field left out (None); a typed NaN is a value, which the field's own
+    rule refuses (it is no finite number), not a request to derive it."""
+    return value is None
 
 
 def _record(component: object) -> dict[str, object]:
@@ -143,7 +145,7 @@ def fill_gear(gear: object) -> None:
     if isinstance(geometry, GearGeometry):
         radius = _attempt(geo.base_radius, geometry)
         teeth = int(geometry.teeth) if is_whole_number(geometry.teeth) else None
-    _refill(gear, "base_radius", radius, math.nan)
+    _refill(gear, "base_radius", radius, None)
     _refill(gear, "teeth", teeth, None)
 
 
@@ -273,7 +275,7 @@ def fill_planetary_stage(stage: object) -> None:
         if pair is not None and distance is None:
             distance = _zero_backlash_distance(pair)
     object.__setattr__(
-        stage, "carrier", _with_values(stage.carrier, {"radius": (distance, math.nan)})
+        stage, "carrier", _with_values(stage.carrier, {"radius": (distance, None)})
     )
     for member in ("sun", "ring"):
         _fill_mesh(stage, f"{member}_mesh", planetary_mesh_geometry(stage, member))

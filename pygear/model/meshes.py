@@ -15,6 +15,7 @@ from .component_rules import (
     require_positive,
 )
 from .geometry_inputs import GEOMETRY_LAWS, LAWS
+from .plausibility import warn_if_implausible
 
 __all__ = ["MAX_CONTACT_RATIO", "Mesh"]
 
@@ -132,6 +133,7 @@ class Mesh:
             )
         else:
             require_positive(f"{path}.stiffness", self.stiffness)
+            warn_if_implausible(f"{path}.stiffness", "mesh_stiffness", self.stiffness)
         for name in ("pressure_angle_deg", "contact_ratio"):
             if getattr(self, name) is None:
                 raise CaseError(
@@ -189,6 +191,7 @@ class Mesh:
                 )
         require_positive(f"{path}.line_load", self.line_load)
         require_positive(f"{path}.young_modulus", self.young_modulus)
+        warn_if_implausible(f"{path}.young_modulus", "young_modulus", self.young_modulus)
         if not _finite(self.poisson_ratio) or not 0 <= self.poisson_ratio < 0.5:
             raise CaseError(
                 f"{path}.poisson_ratio must lie in [0, 0.5) (got {self.poisson_ratio!r})"

@@ -10,11 +10,13 @@ from ..errors import CaseError
 from .bearings import Bearing, PlanetBearing
 from .bodies import Carrier, Gear, require_matching_teeth
 from .component_rules import (
+    check_backlash,
     derived_record,
     is_finite_number,
     is_whole_number,
     looks_like_radians,
     require_axial_position,
+    transverse_module_of,
     validate_component,
 )
 from .geometry_inputs import check_planetary_geometry, fill_planetary_stage
@@ -190,6 +192,10 @@ class PlanetaryStage:
                 f"({self.ring.base_radius} <= {self.planet.base_radius})"
             )
         self._validate_radii(path)
+        for name in ("sun_mesh", "ring_mesh"):
+            mesh = getattr(self, name)
+            module = transverse_module_of(self.planet, mesh.pressure_angle_deg)
+            check_backlash(f"{path}.{name}.backlash", mesh.backlash, module)
         self._validate_angles(path)
         self._validate_teeth(path)
         self._validate_contact(path)
