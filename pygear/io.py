@@ -14,7 +14,6 @@ import hashlib
 import importlib
 import os
 import signal
-import subprocess
 import tempfile
 import threading
 from collections.abc import Mapping
@@ -29,6 +28,8 @@ if TYPE_CHECKING:
 __all__ = [
     "CONVENTIONS",
     "LABEL_SUFFIX",
+    "LEGACY_TIME_UNITS",
+    "PygearBackendEntrypoint",  # noqa: F822 - built on first access (__getattr__)
     "TIME_UNITS",
     "index_labels",
     "open_dataset",
@@ -63,21 +64,12 @@ COMPRESSED_SIZE = 4096
 their time coordinate, spectra); smaller ones are not worth a filter."""
 
 
-@functools.lru_cache(maxsize=1)
 def source_string() -> str:
-    """``pygear <version>`` plus the git revision of the source tree when known."""
-    root = Path(__file__).resolve().parent.parent
-    try:
-        revision = subprocess.run(
-            ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
-            capture_output=True,
-            text=True,
-            timeout=5,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        revision = "unknown"
-    return f"pygear {__version__} (git {revision})"
+    """``pygear <version> (git <revision>)``: the revision the package was built from
+    (:func:`pygear._version.git_revision`), never one git finds around it at run time."""
+    from ._version import git_revision
+
+    return f"pygear {__version__} (git {git_revision() or 'unknown'})"
 
 
 def _source_files() -> list[Path]:
@@ -294,27 +286,37 @@ PROVENANCE = ("case", "scene", "formulation", "input_hash", "case_json")
 (spectra, orders, averages of a run file) takes them from it (``provenance``)."""
 
 
-TIME_UNITS = "seconds since 1970-01-01 00:00:00"
-"""Units of a file's ``time``: CF (4.4) gives a time coordinate a reference instant.  A
-run has no date, so t = 0 (its start) is written as the Unix epoch; pygear's readers
-(:func:`open_dataset`, :func:`index_labels`) give the seconds back.  Read with
-``decode_times=False`` (they do): xarray's default decoding rounds each time to a
-whole nanosecond, so a sample step that is not a whole number of nanoseconds (or a
-product that rounds differently) comes back unequal by up to 1 ns."""
+TIME_UNITS = "s"
+"""Units of a file's ``time``: seconds from the run's start, as plain floats.  A
+simulation has no date, and CF (4.4) gives a variable with ``standard_name: time`` or
+units ``<unit> since <epoch>`` a reference instant, which xarray decodes to datetimes
+(1970 dates, rounded to whole nanoseconds); so ``time`` is a coordinate in seconds with
+a ``long_name`` and neither, and every reader (plain xarray, netCDF4, ncdump) reads the
+seconds.  Files written before (``seconds since 1970-01-01``) are read back in seconds
+by :func:`index_labels`."""
+
+LEGACY_TIME_UNITS = "seconds since 1970-01-01"
+"""How files written before 0.1.0's reading fixes stored ``time`` (t = 0 as the epoch)."""
 
 LABEL_SUFFIX = "_label"
 """A label dimension ``member`` is written with its names in ``member_label(member)``."""
 
+_COORDINATE_MARK = "pygear_coordinate"
+"""Attribute :func:`open_mfdataset` puts on a coordinate it stacks as data for a while."""
+
 
 def _cf_encoded(dataset: xr.Dataset) -> xr.Dataset:
-    """The dataset as a CF file holds it: ``time`` in :data:`TIME_UNITS` with its
-    standard name, and each dimension labelled by text (``member``) written without a
-    coordinate variable of its own and with its names in the auxiliary coordinate
-    ``member_label`` (CF 1.3: a coordinate variable is numeric; CF 5: an auxiliary
-    coordinate is not named after its dimension).  :func:`index_labels` undoes both."""
+    """The dataset as a CF file holds it: ``time`` in seconds (:data:`TIME_UNITS`,
+    without an epoch or ``standard_name``), and each dimension labelled by text
+    (``member``) written without a coordinate variable of its own and with its names in
+    the auxiliary coordinate ``member_label`` (CF 1.3: a coordinate variable is numeric;
+    CF 5: an auxiliary coordinate is not named after its dimension).
+    :func:`index_labels` (or ``engine="pygear"``) turns the labels back into indexes."""
     if "time" in dataset.variables and dataset["time"].attrs.get("units") == "s":
-        attrs = {**dataset["time"].attrs, "units": TIME_UNITS, "standard_name": "time"}
-        attrs.setdefault("calendar", "standard")
+        attrs = {
+            k: v for k, v in dataset["time"].attrs.items() if k not in ("standard_name", "calendar")
+        }
+        attrs.setdefault("long_name", "time from the start of the run")
         dataset = dataset.assign_coords(time=dataset["time"].copy().assign_attrs(attrs))
     labelled = [
         name
@@ -330,8 +332,9 @@ def _cf_encoded(dataset: xr.Dataset) -> xr.Dataset:
 def index_labels(dataset: xr.Dataset) -> xr.Dataset:
     """A pygear file as pygear computed it: every ``<dim>_label`` back as the text
     index of ``<dim>`` (so ``.sel(member="planetary.sun")`` works) and ``time`` in
-    seconds from the start.  Pass it as ``preprocess`` to ``xarray.open_mfdataset``;
-    :func:`open_dataset` and :func:`open_mfdataset` apply it."""
+    seconds from the start (also from files that stored it against the 1970 epoch).
+    Pass it as ``preprocess`` to ``xarray.open_mfdataset``; :func:`open_dataset`,
+    :func:`open_mfdataset` and ``engine="pygear"`` apply it."""
     import numpy as np
 
     text = [name for name, variable in dataset.variables.items() if variable.dtype.kind in "OUS"]
@@ -355,7 +358,7 @@ def index_labels(dataset: xr.Dataset) -> xr.Dataset:
         units = str(time.attrs.get("units", time.encoding.get("units", "")))
         if np.issubdtype(time.dtype, np.datetime64):
             seconds = (time.values - np.datetime64("1970-01-01T00:00:00")) / np.timedelta64(1, "s")
-        elif units.startswith("seconds since 1970-01-01"):  # as written, or re-encoded
+        elif units.startswith(LEGACY_TIME_UNITS):  # an older file, read without decoding
             seconds = time.values
         else:
             return dataset
@@ -367,7 +370,8 @@ def index_labels(dataset: xr.Dataset) -> xr.Dataset:
 
 def open_dataset(path: str | os.PathLike, **options) -> xr.Dataset:
     """Open a pygear NetCDF file as pygear wrote the data: labels as text indexes and
-    time in seconds (:func:`index_labels`); ``options`` go to ``xarray.open_dataset``."""
+    time in seconds (:func:`index_labels`); ``options`` go to ``xarray.open_dataset``.
+    The same as ``xarray.open_dataset(path, engine="pygear")``."""
     import xarray as xr
 
     options.setdefault("decode_times", False)
@@ -377,23 +381,144 @@ def open_dataset(path: str | os.PathLike, **options) -> xr.Dataset:
     return result
 
 
+def _stackable(dataset: xr.Dataset, keep: frozenset = frozenset()) -> xr.Dataset:
+    """``dataset`` through :func:`index_labels`, its coordinates other than indexes (and
+    ``keep``) as data variables marked :data:`_COORDINATE_MARK`: xarray stacks data
+    variables that some files lack (NaN there), but refuses a coordinate that some files
+    lack or hold as data (a run's ``mode_class`` coordinate, a modal file's variable)."""
+    dataset = index_labels(dataset)
+    names = [n for n in dataset.coords if n not in dataset.indexes and n not in keep]
+    dataset = dataset.reset_coords(names)
+    for name in names:
+        dataset[name] = dataset[name].copy().assign_attrs({_COORDINATE_MARK: 1})
+    return dataset
+
+
+def _with_coordinates(dataset: xr.Dataset) -> xr.Dataset:
+    """Undo :func:`_stackable`'s marks: the marked variables are coordinates again."""
+    marked = [n for n, v in dataset.variables.items() if _COORDINATE_MARK in v.attrs]
+    for name in marked:
+        dataset[name].attrs.pop(_COORDINATE_MARK)
+    return dataset.set_coords([n for n in marked if n in dataset.data_vars])
+
+
+def _preprocessed(dataset: xr.Dataset, keep: frozenset, then=None) -> xr.Dataset:
+    dataset = _stackable(dataset, keep)
+    return then(dataset) if then is not None else dataset
+
+
 def open_mfdataset(paths, **options) -> xr.Dataset:
     """Open several pygear files as one dataset: by default stacked along ``scene``
     (``combine="nested", concat_dim="scene"``), each file through :func:`index_labels`,
-    labels and times joined outer (scenes of other durations, members or meshes are
-    NaN where they have no value); ``options`` go to ``xarray.open_mfdataset``."""
+    labels and times joined outer.  Files of scenes with other durations, probes,
+    members or meshes, and files of other kinds (a modal file beside runs) stack too:
+    a variable, coordinate or label a file lacks is NaN in its scene.  Coordinates other
+    than the label indexes gain the ``scene`` dimension (each scene keeps its own).
+    ``options`` go to ``xarray.open_mfdataset`` (``combine="by_coords"`` as there,
+    with :func:`index_labels` as ``preprocess``)."""
+    import functools
+
     import xarray as xr
 
     options.setdefault("decode_times", False)
-    options.setdefault("preprocess", index_labels)
-    if "combine" not in options:
-        options["combine"] = "nested"
-        options.setdefault("concat_dim", "scene")
-    defaults = {"join": "outer", "data_vars": "all", "coords": "different"}
+    if options.get("combine", "nested") != "nested":
+        options.setdefault("preprocess", index_labels)
+        return xr.open_mfdataset(paths, **options)
+    options["combine"] = "nested"
+    options.setdefault("concat_dim", "scene")
+    keep = options["concat_dim"]
+    keep = frozenset([keep] if isinstance(keep, str) else [k for k in keep if isinstance(k, str)])
+    options["preprocess"] = functools.partial(
+        _preprocessed, keep=keep, then=options.get("preprocess")
+    )
+    defaults = {"join": "outer", "data_vars": "all", "coords": "minimal"}
     defaults["compat"] = "no_conflicts"
     for key, value in defaults.items():
         options.setdefault(key, value)
-    return xr.open_mfdataset(paths, **options)
+    stacked = xr.open_mfdataset(paths, **options)
+    result = _with_coordinates(stacked)
+    result.set_close(stacked._close)  # closing the result closes the files
+    return result
+
+
+class _PygearBackend:
+    """``xarray.open_dataset(path, engine="pygear")``: a pygear file with its labels as
+    indexes and time in seconds (:func:`index_labels`), also through
+    ``xarray.open_mfdataset(..., engine="pygear")``.
+
+    Registered in pyproject.toml under ``[project.entry-points."xarray.backends"]``.
+    The file is read by xarray's netCDF4 backend; nothing in it is executed.  It never
+    claims a file by itself (``guess_can_open`` is False): name the engine.
+    ``pygear.io.PygearBackendEntrypoint`` is this class on xarray's ``BackendEntrypoint``,
+    built when first asked for, so importing :mod:`pygear.io` imports no xarray.
+    """
+
+    description = "pygear NetCDF results: text labels as indexes, time in seconds"
+    url = "https://github.com/pygear/pygear/blob/main/docs/data_model.md"
+    open_dataset_parameters = (
+        "filename_or_obj",
+        "mask_and_scale",
+        "decode_times",
+        "concat_characters",
+        "decode_coords",
+        "drop_variables",
+        "use_cftime",
+        "decode_timedelta",
+        "group",
+    )
+
+    def open_dataset(
+        self,
+        filename_or_obj,
+        *,
+        mask_and_scale=True,
+        decode_times=False,
+        concat_characters=True,
+        decode_coords=True,
+        drop_variables=None,
+        use_cftime=None,
+        decode_timedelta=None,
+        group=None,
+    ):
+        from xarray.backends import NetCDF4BackendEntrypoint
+
+        opened = NetCDF4BackendEntrypoint().open_dataset(
+            filename_or_obj,
+            mask_and_scale=mask_and_scale,
+            decode_times=decode_times,
+            concat_characters=concat_characters,
+            decode_coords=decode_coords,
+            drop_variables=drop_variables,
+            use_cftime=use_cftime,
+            decode_timedelta=decode_timedelta,
+            group=group,
+        )
+        result = index_labels(opened)
+        result.set_close(opened.close)
+        return result
+
+    def guess_can_open(self, filename_or_obj) -> bool:
+        return False
+
+    def open_datatree(self, filename_or_obj, **kwargs):
+        raise NotImplementedError("engine='pygear' opens datasets (xarray.open_dataset)")
+
+
+@functools.lru_cache(maxsize=1)
+def _backend_class() -> type:
+    from xarray.backends import BackendEntrypoint
+
+    return type(
+        "PygearBackendEntrypoint",
+        (_PygearBackend, BackendEntrypoint),
+        {"__module__": __name__, "__doc__": _PygearBackend.__doc__},
+    )
+
+
+def __getattr__(name: str):
+    if name == "PygearBackendEntrypoint":
+        return _backend_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def write_netcdf(

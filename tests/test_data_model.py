@@ -61,6 +61,16 @@ case = dataclasses.replace(
 
 PROVENANCE = ("case", "scene", "formulation", "input_hash", "case_json")
 
+SECONDS_NOT_TIME = "Coordinate variable 'time' should have standard_name='time', found: 'None'"
+"""The one compliance-checker message a pygear file draws, and why it is no CF fault.
+``time`` holds seconds from the run's start (units "s"): CF 4.4 requires a reference
+instant ("since") of a variable with ``standard_name: time``, which cfchecker and the
+compliance checker's own §4.4 enforce, and a simulation has none (an epoch made xarray
+decode 1970 datetimes).  Without that standard name ``time`` is an ordinary coordinate
+in seconds, which CF 5.1 allows; the compliance checker's §5.1 check, however, wants
+``standard_name: time`` on any dimension called ``time``, a rule of that checker, not
+of CF.  Only this message is let through; any other §5.1 message still fails."""
+
 
 # --- the checkers -----------------------------------------------------------------------------
 
@@ -123,8 +133,9 @@ def cf_checks(tmp_path_factory):
         result = json.loads(report.read_text())["cf:1.10"]
         for check in result["all_priorities"]:
             passed, total = check["value"]
-            if passed < total:
-                messages.append(f"compliance-checker {check['name']}: {check['msgs']}")
+            found = [m for m in check["msgs"] if m != SECONDS_NOT_TIME]
+            if passed < total and found:
+                messages.append(f"compliance-checker {check['name']}: {found}")
         if result.get("errors"):
             messages.append(f"compliance-checker exceptions: {result['errors']}")
         return messages
@@ -301,9 +312,11 @@ def test_a_batch_opens_as_one_dataset_and_selects_by_name(batch_dir):
 
 
 def test_plain_xarray_reads_the_labels_as_coordinates(batch_dir):
-    """Without pygear: CF's auxiliary label coordinates, which ``set_xindex`` indexes."""
+    """Without pygear: CF's auxiliary label coordinates, which ``set_xindex`` indexes,
+    and time in seconds (no epoch for xarray to decode into 1970 datetimes)."""
     with xr.open_dataset(batch_dir / "runup.nc") as run:
-        assert run.time.dtype.kind == "M"  # CF time, decoded against its epoch
+        assert run.time.dtype.kind == "f" and run.time.attrs["units"] == "s"
+        assert run.time.values[0] == 0.0 and "standard_name" not in run.time.attrs
         labelled = run.set_xindex("member_label")
         sun = labelled.speed.sel(member_label="planetary.sun")
         assert sun.dims == ("time",)
