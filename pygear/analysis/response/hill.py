@@ -1,0 +1,318 @@
+r"""Harmonic balance (Hill's method) of the linear time-periodic gearbox model.
+
+With y(tau) = sum_{k=-H}^{H} y_k e^{i k omega t} and the stiffness variation
+dk_m(t) = sum_j c_{m,j} e^{i j omega t}, balancing the harmonics -H..H of
+
+    y'' + C_r y' + (Lambda + B^T diag(dk(t)) B) y = f
+
+gives Hill's block system (a Galerkin projection; Hill 1886, Bolotin 1964):
+
+    D_j y_j + B^T sum_k diag(c_{j-k}) B y_k = f delta_{j0},
+    D_j = Lambda - (j omega)^2 I + i j omega C_r,                     (1)
+
+whose blocks :func:`hill_matrix` assembles as a sparse matrix (the form an AFT Newton
+solver for contact loss linearises around).  Because the time-varying part has rank
+n_mesh, (1) is solved condensed onto the mesh deflections delta_k = B y_k: with the
+receptance G_j = B D_j^-1 B^T (n_mesh x n_mesh) and the convolution (T delta)_j =
+sum_k diag(c_{j-k}) delta_k,
+
+    (I + G T) delta = B D^-1 f,                                        (2)
+
+an n_mesh (2H + 1) system, one LU factorisation per speed; y_j = D_j^-1 (f delta_{j0} -
+B^T (T delta)_j) follows.  (2) is (1) with y eliminated (a Schur complement), exact.
+
+Harmonic count.  A mesh stiffness that jumps when a pair enters or leaves contact has
+Fourier coefficients c_j ~ 1/j, so the force residual of a truncated series does not
+fall below the Gibbs overshoot at a jump, whatever H; the deflection, whose second
+derivative carries the jump, has coefficients ~ 1/j^3.  The residual reported is
+therefore the deflection the harmonics H+1..2H would add, one block-Jacobi step of (2)
+from the solution (delta_j ~ -G_j (T delta)_j for H < |j| <= 2H), sampled at 8 (2H + 1)
+instants of a period and divided by the largest static mesh deflection: the force
+residual M q'' + C q' + K(t) q - F of those harmonics, mapped through the system's own
+dynamic compliance.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+
+from ...errors import CaseError
+from .system import ResponseSystem
+
+__all__ = [
+    "AUTO_HARMONICS",
+    "HillSolution",
+    "fourier_coefficients",
+    "harmonic_balance",
+    "hill_matrix",
+    "mesh_signals",
+    "solve_hill",
+]
+
+AUTO_HARMONICS = (2, 4, 8, 16, 32, 64, 128)
+"""Harmonic counts tried in turn when the count is chosen by the tolerance."""
+
+
+@dataclass
+class HillSolution:
+    """A periodic solution: harmonics -H..H at one fundamental frequency.
+
+    Attributes
+    ----------
+    harmonics : int
+        H.
+    omega : float
+        Fundamental angular frequency [rad/s].
+    deflection : ndarray, complex, shape (2H + 1, n_mesh)
+        delta_k, row k + H [m].
+    coordinates : ndarray, complex, shape (2H + 1, n)
+        y_k, row k + H (modal coordinates).
+    residual : float
+        Deflection of the next harmonics over the largest static mesh deflection [-].
+    """
+
+    harmonics: int
+    omega: float
+    deflection: np.ndarray
+    coordinates: np.ndarray
+    residual: float = math.nan
+
+
+def fourier_coefficients(samples: np.ndarray, order: int) -> np.ndarray:
+    """Complex Fourier coefficients c_j, j = -order..order, of equally spaced samples.
+
+    Parameters
+    ----------
+    samples : ndarray, shape (N, ...)
+        Values over one period at tau = i / N.
+    order : int
+        Highest harmonic; N must exceed 2 order.
+
+    Returns
+    -------
+    ndarray, shape (2 order + 1, ...)
+        Row j + order is c_j with samples = sum_j c_j e^{2 pi i j tau}.
+    """
+    n = samples.shape[0]
+    if n <= 2 * order:
+        raise ValueError(f"{n} samples cannot resolve harmonic {order}")
+    spectrum = np.fft.fft(samples, axis=0) / n
+    return spectrum[np.arange(-order, order + 1) % n]
+
+
+def _receptance(system: ResponseSystem, omega: float, orders: np.ndarray) -> tuple:
+    """D_j^-1 B^T (shape (J, n, n_mesh)) and G_j = B D_j^-1 B^T for harmonics ``orders``."""
+    rows = system.mesh_rows
+    lam = system.eigenvalues
+    c = system.damping
+    w = orders * omega
+    diagonal = np.abs(c - np.diag(np.diag(c))).max() <= 1e-12 * max(np.abs(c).max(), 1e-300)
+    if diagonal:
+        inverse = 1.0 / (lam[None, :] - w[:, None] ** 2 + 1j * w[:, None] * np.diag(c)[None, :])
+        solved = inverse[:, :, None] * rows.T[None, :, :]
+    else:
+        d = (
+            np.diag(lam)[None]
+            - (w**2)[:, None, None] * np.eye(lam.size)[None]
+            + 1j * w[:, None, None] * c[None]
+        )
+        solved = np.linalg.solve(d, np.broadcast_to(rows.T, (w.size, *rows.T.shape)))
+    return solved, np.einsum("mi,jin->jmn", rows, solved)
+
+
+def _toeplitz(coefficients: np.ndarray, harmonics: int) -> np.ndarray:
+    """T[j, k, m] = c_{m, j-k} for j, k in -H..H (``coefficients`` over -2H..2H or more)."""
+    centre = coefficients.shape[0] // 2
+    j = np.arange(-harmonics, harmonics + 1)
+    return coefficients[centre + j[:, None] - j[None, :]]
+
+
+def solve_hill(
+    system: ResponseSystem,
+    omega: float,
+    harmonics: int,
+    coefficients: np.ndarray | None = None,
+) -> HillSolution:
+    """Solve Hill's system (2) at one fundamental frequency and harmonic count.
+
+    The solution is real, delta_{-k} = conj(delta_k), so (2) is solved for harmonics
+    0..H in real form: unknowns Re delta_0..H and Im delta_1..H, equations the real
+    parts of harmonics 0..H and the imaginary parts of 1..H (that of harmonic 0 holds
+    identically), a real system of n_mesh (2H + 1) rows: a quarter of the complex
+    factorisation's work.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The model.
+    omega : float
+        Fundamental angular frequency [rad/s], > 0.
+    harmonics : int
+        H >= 0.
+    coefficients : ndarray, optional
+        Fourier coefficients of the stiffness variation over -3H..3H (or more);
+        computed from ``system.stiffness`` when not given.
+
+    Returns
+    -------
+    HillSolution
+        With its residual estimate.
+    """
+    h = int(harmonics)
+    if coefficients is None:
+        coefficients = fourier_coefficients(system.stiffness_variation, 3 * h)
+    centre = coefficients.shape[0] // 2
+    coefficients = coefficients[centre - 3 * h : centre + 3 * h + 1]
+    c = lambda order: coefficients[3 * h + order]  # noqa: E731 (c_order, any sign)
+    solved, receptance = _receptance(system, omega, np.arange(0, 2 * h + 1))
+    n_mesh = system.mesh_rows.shape[0]
+    j = np.arange(h + 1)
+    same = receptance[: h + 1, :, None, :] * c(j[:, None] - j[None, :])[:, None, :, :]
+    same[j, :, j, :] += np.eye(n_mesh)
+    mirror = receptance[: h + 1, :, None, :] * c(j[:, None] + j[None, :])[:, None, :, :]
+    mirror[:, :, 0, :] = 0.0  # delta_0 enters once, through c_j
+    plus, minus = same + mirror, same - mirror
+    size = (h + 1) * n_mesh
+    real_rows = np.concatenate(
+        [plus.real.reshape(size, size), -minus.imag.reshape(size, size)[:, n_mesh:]], axis=1
+    )
+    imag_rows = np.concatenate(
+        [plus.imag.reshape(size, size), minus.real.reshape(size, size)[:, n_mesh:]], axis=1
+    )[n_mesh:]
+    matrix = np.concatenate([real_rows, imag_rows], axis=0)
+    static = system.force / system.eigenvalues  # D_0^-1 f
+    rhs = np.zeros(matrix.shape[0])
+    rhs[:n_mesh] = system.mesh_rows @ static
+    factor = scipy.linalg.lu_factor(matrix, check_finite=False)
+    unknowns = scipy.linalg.lu_solve(factor, rhs, check_finite=False)
+    half = unknowns[:size].reshape(h + 1, n_mesh).astype(complex)
+    half[1:] += 1j * unknowns[size:].reshape(h, n_mesh)
+    deflection = np.concatenate([np.conj(half[:0:-1]), half])  # -H..H
+    toeplitz = _toeplitz(coefficients[h : 5 * h + 1], h)  # c over -2H..2H
+    load = np.einsum("jkm,km->jm", toeplitz, deflection)[h:]  # (T delta)_j, j = 0..H
+    upper = -np.einsum("jin,jn->ji", solved[: h + 1], load)
+    upper[0] += static
+    coordinates = np.concatenate([np.conj(upper[:0:-1]), upper])
+    residual = _residual(system, receptance, coefficients, deflection, h)
+    return HillSolution(h, omega, deflection, coordinates, residual)
+
+
+def _residual(
+    system: ResponseSystem,
+    receptance: np.ndarray,
+    coefficients: np.ndarray,
+    deflection: np.ndarray,
+    h: int,
+) -> float:
+    """Deflection the harmonics H+1..2H would add, sampled, over the static deflection."""
+    scale = np.abs(system.static_deflection()).max()
+    if h == 0 or not np.any(coefficients):
+        return 0.0
+    centre = coefficients.shape[0] // 2
+    upper = np.arange(h + 1, 2 * h + 1)
+    k = np.arange(-h, h + 1)
+    conv = coefficients[centre + upper[:, None] - k[None, :]]  # (band, 2H+1, n_mesh)
+    load = np.einsum("jkm,km->jm", conv, deflection)
+    extra = -np.einsum("jmn,jn->jm", receptance[h + 1 :], load)  # orders H+1..2H
+    samples = 8 * (2 * h + 1)
+    tau = np.arange(samples) / samples
+    phase = np.exp(2j * math.pi * np.outer(tau, upper))
+    signal = 2 * np.real(phase @ extra)
+    return float(np.abs(signal).max() / scale) if scale > 0 else math.inf
+
+
+def harmonic_balance(
+    system: ResponseSystem,
+    omega: float,
+    harmonics: int | str = "auto",
+    *,
+    tolerance: float = 1e-4,
+    max_harmonics: int = AUTO_HARMONICS[-1],
+    start: int = AUTO_HARMONICS[0],
+    coefficients: np.ndarray | None = None,
+) -> HillSolution:
+    """The periodic steady state at one fundamental frequency.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The model.
+    omega : float
+        Fundamental angular frequency [rad/s].
+    harmonics : int or "auto"
+        H, or ``auto``: the first count of :data:`AUTO_HARMONICS` from ``start`` whose
+        residual falls below ``tolerance`` (the last one tried when none does).
+    tolerance : float
+        Residual the automatic count must reach [-].
+    max_harmonics, start : int
+        Largest and first count tried by ``auto``.
+    coefficients : ndarray, optional
+        Stiffness coefficients over at least -3 max_harmonics..3 max_harmonics.
+    """
+    if not (math.isfinite(omega) and omega > 0):
+        raise CaseError(f"response: the fundamental frequency must be > 0 (got {omega!r})")
+    if harmonics != "auto":
+        return solve_hill(system, omega, int(harmonics), coefficients)
+    counts = [c for c in AUTO_HARMONICS if start <= c <= max_harmonics] or [max_harmonics]
+    if coefficients is None:
+        coefficients = fourier_coefficients(system.stiffness_variation, 3 * counts[-1])
+    solution = None
+    for count in counts:  # doubling: the residual falls about as H^-2
+        solution = solve_hill(system, omega, count, coefficients)
+        if solution.residual <= tolerance:
+            break
+    return solution
+
+
+def mesh_signals(system: ResponseSystem, solution: HillSolution) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh deflection and mesh force over one period at the stiffness samples.
+
+    Returns
+    -------
+    deflection : ndarray, shape (N, n_mesh)
+        delta_m(tau) [m] from the Fourier series.
+    force : ndarray, shape (N, n_mesh)
+        s_m k_m(tau) delta_m(tau) [N], > 0 with the loaded flanks pressed together,
+        with the sampled (not truncated) stiffness.
+    """
+    n = system.stiffness.shape[0]
+    h = solution.harmonics
+    spectrum = np.zeros((n, solution.deflection.shape[1]), dtype=complex)
+    spectrum[np.arange(-h, h + 1) % n] = solution.deflection
+    deflection = np.real(np.fft.ifft(spectrum, axis=0)) * n
+    force = system.contact_sign * system.stiffness * deflection
+    return deflection, force
+
+
+def hill_matrix(
+    system: ResponseSystem, omega: float, harmonics: int, coefficients: np.ndarray | None = None
+) -> scipy.sparse.csc_matrix:
+    """Hill's block matrix (1) over the modal coordinates of harmonics -H..H.
+
+    Block (j, k) is D_j delta_jk + B^T diag(c_{j-k}) B; unknowns ordered harmonic by
+    harmonic.  The condensed solve of :func:`solve_hill` is the same system; an AFT
+    Newton solver for contact loss linearises the contact forces around this matrix.
+    """
+    h = int(harmonics)
+    if coefficients is None:
+        coefficients = fourier_coefficients(system.stiffness_variation, 2 * h)
+    centre = coefficients.shape[0] // 2
+    n = system.size
+    rows = system.mesh_rows
+    blocks = []
+    for j in range(-h, h + 1):
+        line = []
+        for k in range(-h, h + 1):
+            block = rows.T @ (coefficients[centre + j - k][:, None] * rows)
+            if j == k:
+                w = j * omega
+                block = block + np.diag(system.eigenvalues) - w * w * np.eye(n)
+                block = block + 1j * w * system.damping
+            line.append(block)
+        blocks.append(line)
+    return scipy.sparse.csc_matrix(np.block(blocks))

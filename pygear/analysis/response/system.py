@@ -1,0 +1,362 @@
+r"""The linear time-periodic model of a gearbox at constant speed, in elastic modal form.
+
+At a constant input speed Omega the gearbox turns as its free rigid-body rotation
+Phi Omega t, and the elastic deflection q(t) relative to that rotation obeys
+
+    M q'' + C q' + K(t) q = F,   K(t) = K0 + sum_m (k_m(t) - kbar_m) b_m b_m^T,
+
+with K0 the stiffness at the mean mesh stiffnesses kbar_m, b_m the mesh deflection
+vectors (:class:`pygear.assembly.matrices.MeshElement`) and k_m(t) each mesh's
+stiffness along the rigid-body kinematics, read from the same tooth-contact table the
+transient kernel evaluates (:func:`pygear.assembly.contact_table.build_contact_table`,
+phases between meshes included).  F is the static load: the drive torque T on the
+input member and the load torque on the output member that balances it through the
+rigid rotation (T_out = T (w_in . Phi) / (w_out . Phi), power in = power out).
+
+The rigid rotation is taken out by writing q in the elastic modes of (K0, M): q = Psi y,
+Psi^T M Psi = I, Psi^T K0 Psi = Lambda.  Every mesh and bearing deflects nothing in a
+rigid rotation (b_m . Phi = 0), and Rayleigh damping C = alpha M + beta K0 does not
+couple Phi to Psi, so the elastic equations
+
+    y'' + C_r y' + (Lambda + B^T diag(dk(t)) B) y = f,   B = [b_m^T Psi],  f = Psi^T F,
+
+are exact; a damping that couples them (a coupling's dashpot) is projected the same
+way, which leaves out the torque the rigid rotation's own damping carries.
+
+The mesh stiffness depends on time only through the mesh cycles, so it is sampled once
+per case over one period of the fundamental, as a function of the phase tau in [0, 1);
+at a speed Omega the fundamental is omega_0 = 2 pi nu_0 Omega.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+
+import numpy as np
+
+from ...assembly.contact_table import build_contact_table
+from ...assembly.dof_rows import dof_row
+from ...assembly.drivetrain_model import scene_model
+from ...assembly.matrices import Model
+from ...errors import CaseError
+from ...linalg import generalized_eigh
+from ...model.case import Case, Scene
+from ...model.components import PlanetaryStage
+from ...rigid_modes import rigid_body_mask
+
+__all__ = [
+    "DEFAULT_SAMPLES",
+    "MAX_MESH_ORDER",
+    "ResponseSystem",
+    "response_system",
+]
+
+DEFAULT_SAMPLES = 2**14
+"""Samples of the mesh stiffness per period of the fundamental.  A stiffness jump (a
+pair entering or leaving contact) between two samples aliases its Fourier coefficients
+by about dk / N: 6e-5 of the jump here, below the accuracy asked of the balance."""
+
+MAX_MESH_ORDER = 8
+"""Largest mesh order (mesh frequency over the fundamental) the balance takes: meshes
+whose common period holds more cycles of the fastest mesh need a multi-frequency
+balance, not implemented yet."""
+
+SNAP_DENOMINATOR = 64
+SNAP_TOLERANCE = 2e-3
+"""Mesh-frequency ratios within this relative distance of a fraction with a denominator
+up to :data:`SNAP_DENOMINATOR` are taken as that fraction: the tooth counts fix the
+ratio, while a model's base radii may round it (the study case's sun mesh runs at
+Z_s r_br / r_bs = 95.93 carrier orders against the ring's 96)."""
+
+
+@dataclass
+class ResponseSystem:
+    """A gearbox's linear time-periodic model at constant speed, elastic modal form.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray, shape (n,)
+        Lambda, squared elastic natural frequencies [rad^2/s^2].
+    damping : ndarray, shape (n, n)
+        C_r = Psi^T C Psi [1/s].
+    mesh_rows : ndarray, shape (n_mesh, n)
+        B: mesh deflection per modal coordinate [m].
+    force : ndarray, shape (n,)
+        f = Psi^T F, the static load in modal coordinates.
+    mean_stiffness : ndarray, shape (n_mesh,)
+        kbar_m, the stiffness inside K0 [N/m].
+    stiffness : ndarray, shape (samples, n_mesh)
+        k_m(tau) over one period of the fundamental [N/m].
+    contact_sign : ndarray, shape (n_mesh,)
+        s_m = +-1: s_m delta_m > 0 presses the loaded flanks together.
+    mesh_order : ndarray of int, shape (n_mesh,)
+        Mesh frequency over the fundamental.
+    fundamental_per_rad_s : float
+        nu_0: the fundamental [Hz] per rad/s of the input member.
+    names, stages, planets : list
+        Mesh names, their stage, their planet (0 for a parallel mesh).
+    modes : ndarray, shape (n_full, n)
+        Psi over the model's reduced DOFs (for bearing forces).
+    model : Model
+        The assembled model.
+    attrs : dict
+        What the dataset records (input, output, torque, snapping of mesh ratios).
+    """
+
+    eigenvalues: np.ndarray
+    damping: np.ndarray
+    mesh_rows: np.ndarray
+    force: np.ndarray
+    mean_stiffness: np.ndarray
+    stiffness: np.ndarray
+    contact_sign: np.ndarray
+    mesh_order: np.ndarray
+    fundamental_per_rad_s: float
+    names: list[str]
+    stages: list[str]
+    planets: list[int]
+    modes: np.ndarray
+    model: Model | None = None
+    attrs: dict = field(default_factory=dict)
+
+    @property
+    def size(self) -> int:
+        """Elastic modal coordinates."""
+        return self.eigenvalues.size
+
+    @property
+    def stiffness_variation(self) -> np.ndarray:
+        """dk_m(tau) = k_m(tau) - kbar_m, shape (samples, n_mesh) [N/m]."""
+        return self.stiffness - self.mean_stiffness
+
+    @property
+    def natural_frequencies(self) -> np.ndarray:
+        """Elastic natural frequencies at mean mesh stiffness [Hz]."""
+        return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * math.pi)
+
+    def mesh_energy_share(self) -> np.ndarray:
+        """Share of each mode's strain energy stored in the meshes [-]."""
+        strain = self.mean_stiffness[:, None] * self.mesh_rows**2
+        return strain.sum(axis=0) / np.maximum(self.eigenvalues, 1e-300)
+
+    def static_deflection(self) -> np.ndarray:
+        """Mesh deflections under the static load at mean stiffness [m]."""
+        return self.mesh_rows @ (self.force / self.eigenvalues)
+
+    def omega(self, speed_rpm: float) -> float:
+        """Fundamental angular frequency at an input speed [rad/s]."""
+        return 2 * math.pi * self.fundamental_per_rad_s * abs(speed_rpm) * math.pi / 30
+
+    def constant_stiffness(self) -> ResponseSystem:
+        """The same system with every mesh at its mean stiffness."""
+        return replace(self, stiffness=np.broadcast_to(self.mean_stiffness, self.stiffness.shape))
+
+
+def _input_output(case: Case, scene: Scene | None) -> tuple[str, str | None, float]:
+    """Input and output members and the drive torque: the scene's transient settings,
+    else the first transient scene's, else the first planetary stage's carrier and sun
+    at 1 N m (the response is linear in the torque)."""
+    settings = scene.transient if scene is not None else None
+    if settings is None:
+        settings = next((s.transient for s in case.scenes if s.transient is not None), None)
+    torque = 1.0
+    if settings is not None and settings.drive is not None:
+        law = settings.drive
+        values = [abs(t) for t in law.torques] if law.kind == "table" else [abs(law.torque)]
+        torque = max(values) or 1.0
+    if settings is not None and settings.input:
+        return settings.input, settings.output, torque
+    for stage in case.gearbox.stages:
+        if isinstance(stage, PlanetaryStage):
+            return f"{stage.name}.carrier.theta_z", f"{stage.name}.sun.theta_z", torque
+    raise CaseError(
+        f"response: case {case.name!r} names no input member (give a scene with transient "
+        "settings, or a planetary stage whose carrier is the input)"
+    )
+
+
+def _snap(ratio: float) -> Fraction:
+    snapped = Fraction(ratio).limit_denominator(SNAP_DENOMINATOR)
+    if abs(float(snapped) - ratio) > SNAP_TOLERANCE * ratio:
+        raise CaseError(
+            f"response: a mesh frequency ratio {ratio:.8g} is no ratio of small whole numbers; "
+            "the meshes have no common period (multi-frequency balance not implemented)"
+        )
+    return snapped
+
+
+def mesh_orders(frequencies: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Whole mesh orders over a common fundamental.
+
+    Parameters
+    ----------
+    frequencies : ndarray
+        Mesh frequencies (any common unit), positive.
+
+    Returns
+    -------
+    orders : ndarray of int
+        n_m with f_m = n_m f_0 (after snapping the ratios to small fractions).
+    fundamental : float
+        f_0, in the unit given.
+    snap : float
+        Largest relative change snapping made to a ratio.
+    """
+    slowest = float(frequencies.min())
+    ratios = [_snap(f / slowest) for f in frequencies]
+    lcm_den = 1
+    for r in ratios:
+        lcm_den = lcm_den * r.denominator // math.gcd(lcm_den, r.denominator)
+    whole = [int(r * lcm_den) for r in ratios]
+    common = 0
+    for w in whole:
+        common = math.gcd(common, w)
+    orders = np.array([w // common for w in whole], dtype=np.int64)
+    fundamental = slowest * common / lcm_den
+    snap = max(abs(float(r) * slowest - f) / f for r, f in zip(ratios, frequencies))
+    return orders, fundamental, snap
+
+
+def response_system(
+    case: Case,
+    scene: Scene | None = None,
+    *,
+    time_varying: bool = True,
+    samples: int = DEFAULT_SAMPLES,
+    pin_errors: dict[str, float] | None = None,
+    torque: float | None = None,
+) -> ResponseSystem:
+    """Build the constant-speed linear time-periodic model of a case.
+
+    Parameters
+    ----------
+    case : Case
+        The case (a gearbox or a drivetrain).
+    scene : Scene, optional
+        Scene whose parameters, formulation, DOF set, defects and transient members apply.
+    time_varying : bool
+        False holds every mesh at its mean stiffness.
+    samples : int
+        Samples of the mesh stiffness per period of the fundamental (>= 64).
+    pin_errors : dict of str to float, optional
+        Tangential position errors of planet pins, by planet node name
+        (``planetary.planet1``) [m]: the planet bearing spring is pre-deflected by it,
+        which loads the pin with k_p e along the tangential direction.
+    torque : float, optional
+        Drive torque on the input member [N m]; default the scene's drive torque.
+
+    Raises
+    ------
+    CaseError
+        No meshes, no single rigid rotation through the input member, or meshes
+        without a common period of a few mesh cycles.
+    """
+    if not (isinstance(samples, int) and samples >= 64):
+        raise CaseError(f"samples must be a whole number >= 64 (got {samples!r})")
+    if scene is not None:
+        case = case.for_scene(scene)
+    model = scene_model(case, scene)
+    if not model.meshes:
+        raise CaseError(f"response: case {case.name!r} has no gear mesh to balance")
+    input_label, output_label, drive = _input_output(case, scene)
+    drive = drive if torque is None else float(torque)
+    values, vectors = generalized_eigh(model.stiffness, model.mass)
+    rigid = rigid_body_mask(values)
+    w_in = dof_row(model, input_label)
+    if w_in is None or not np.any(w_in):
+        raise CaseError(f"response: input member {input_label!r} is not a free DOF of the model")
+    if rigid.sum() != 1:
+        raise CaseError(
+            f"response: the model of {case.name!r} has {int(rigid.sum())} rigid-body "
+            "rotations; the steady state at constant speed needs exactly one"
+        )
+    phi = vectors[:, rigid][:, 0]
+    phi = phi / float(w_in @ phi)  # rad/s of every DOF per rad/s of the input
+    force = drive * w_in
+    w_out = dof_row(model, output_label) if output_label else None
+    if w_out is not None and abs(w_out @ phi) > 1e-9 * np.abs(phi).max():
+        force = force - drive * (w_in @ phi) / (w_out @ phi) * w_out
+    mass_phi = model.mass @ phi
+    force = force - mass_phi * (phi @ force) / (phi @ mass_phi)  # round-off of the balance
+    force = force + _pin_forces(model, pin_errors or {})
+    psi = vectors[:, ~rigid]
+    eigenvalues = values[~rigid]
+    deflection = np.array([m.deflection for m in model.meshes])
+    rows = deflection @ psi
+    damping = psi.T @ model.damping @ psi
+    static = rows @ ((psi.T @ force) / eigenvalues)
+    sign = np.where(static < 0, -1, 1).astype(np.int64)
+
+    table = build_contact_table(
+        case, model, scene, direction=1, sun_driven=".sun." not in input_label
+    )
+    rates = np.zeros(len(model.meshes))
+    for m, members in enumerate(table.angles):
+        for member, s in zip(members, (1.0, -1.0)):
+            row = dof_row(model, f"{member}.theta_z")
+            if row is not None:
+                rates[m] += s * float(row @ phi)
+    frequency = table.teeth[0] * np.abs(rates) / (2 * math.pi)  # Hz per rad/s of the input
+    if np.any(frequency <= 0):
+        raise CaseError("response: a mesh does not turn in the rigid rotation of the input")
+    orders, fundamental, snapped = mesh_orders(frequency)
+    if orders.max() > MAX_MESH_ORDER:
+        raise CaseError(
+            f"response: the meshes of {case.name!r} share a period of {int(orders.max())} "
+            f"cycles of the fastest mesh (more than {MAX_MESH_ORDER}); several stages at "
+            "different mesh frequencies need a multi-frequency balance, not implemented yet"
+        )
+    mean = np.array([m.mean_stiffness for m in model.meshes])
+    tau = np.arange(samples) / samples
+    if time_varying:
+        # theta_rel of each mesh along the snapped kinematics: n_m cycles per period
+        theta = np.outer(tau, np.sign(rates) * 2 * math.pi * orders / table.teeth[0])
+        stiffness = np.array(table.series(theta)["stiffness"], dtype=np.float64)
+    else:
+        stiffness = np.broadcast_to(mean, (samples, mean.size)).copy()
+    several = len(case.gearbox.stages) > 1
+    names = [f"{m.stage}.{m.name}" if several else m.name for m in model.meshes]
+    return ResponseSystem(
+        eigenvalues=eigenvalues,
+        damping=0.5 * (damping + damping.T),
+        mesh_rows=rows,
+        force=psi.T @ force,
+        mean_stiffness=mean,
+        stiffness=stiffness,
+        contact_sign=sign,
+        mesh_order=orders,
+        fundamental_per_rad_s=fundamental,
+        names=names,
+        stages=[m.stage for m in model.meshes],
+        planets=[int(m.planet) for m in model.meshes],
+        modes=psi,
+        model=model,
+        attrs={
+            "case": case.name,
+            "scene": scene.name if scene is not None else "",
+            "formulation": model.formulation,
+            "dof_set": model.dof_set,
+            "input": input_label,
+            "output": output_label or "",
+            "drive_torque": drive,
+            "time_varying_mesh_stiffness": int(time_varying),
+            "mesh_ratio_snap": snapped,
+            "stiffness_samples": samples,
+        },
+    )
+
+
+def _pin_forces(model: Model, errors: dict[str, float]) -> np.ndarray:
+    """k_p b_eta e over the reduced DOFs for tangential pin errors e by planet name."""
+    force_full = np.zeros(len(model.full_labels))
+    springs = {s.name: s for s in model.springs if s.kind == "planet_bearing"}
+    for planet, error in errors.items():
+        spring = springs.get(f"{planet}_bearing")
+        if spring is None:
+            known = ", ".join(sorted(n.removesuffix("_bearing") for n in springs)) or "none"
+            raise CaseError(f"pin error: {planet!r} is no planet of the model (planets: {known})")
+        # column 1 is the tangential (eta) spring of the planet bearing
+        force_full[spring.dofs] += spring.stiffness[1] * spring.deflection[:, 1] * float(error)
+    return model.reduction.T @ force_full
