@@ -454,14 +454,29 @@ RATED_ROTOR_TORQUE = RATED_POWER / (RATED_ROTOR_SPEED_RPM * math.pi / 30.0)
 # ----------------------------------------------------------------------------------
 
 
+def ring_rim_radius(stage: str) -> float:
+    """Outer radius of a ring's rim [m]: the ASSUMED annulus of the ring's body
+    (RING_OUTER_DIAMETER_FACTOR times its reference radius), where the housing holds it."""
+    geometry = GEOMETRY[stage]["ring"]
+    return RING_OUTER_DIAMETER_FACTOR * geometry.teeth * geometry.normal_module / 2.0
+
+
 def gear(stage: str, member: str) -> Gear:
     """A gear from its geometry (base radius and teeth derived), with its ASSUMED annulus
-    body; its bore also sets the fillet-foundation term of the potential-energy law."""
+    body; its bore (a ring: its rim) also sets the fillet-foundation term of the
+    potential-energy law."""
     geometry = GEOMETRY[stage][member]
+    if geometry.internal:
+        # ASSUMED rim (RING_OUTER_DIAMETER_FACTOR): with it the ring's teeth sit on a
+        # compliant rim, which brings stage 1's ring mesh from 1.48 to 1.02 times ISO
+        # 6336-1's c_gamma_alpha b (docs/potential_energy.md)
+        return Gear(
+            **gear_body(stage, member), geometry=geometry, rim_radius=ring_rim_radius(stage)
+        )
     return Gear(
         **gear_body(stage, member),
         geometry=geometry,
-        bore_radius=None if geometry.internal else BORE_DIAMETER[(stage, member)] / 2.0,
+        bore_radius=BORE_DIAMETER[(stage, member)] / 2.0,
     )
 
 
@@ -469,8 +484,8 @@ def mesh(stage: str, first: str, second: str, law: str = "potential_energy") -> 
     """A mesh whose stiffness ``law`` derives from the geometry of its two gears.
 
     The potential-energy law (the default) takes its pair curve from the tooth
-    geometry, the material [Repro] and the gears' bores; pygear takes a ring's rim as
-    rigid.  Pressure angle, contact ratio and backlash come from the geometry.
+    geometry, the material [Repro], the gears' bores and the rings' rims (ASSUMED,
+    :func:`ring_rim_radius`).  Pressure angle, contact ratio and backlash come from the geometry.
     ``first``, ``second``: the mesh geometry's order, (sun, planet) or (planet, ring).
     """
     allowances = thickness_allowances(stage)

@@ -75,7 +75,8 @@ def gear(member: str) -> Gear:
     pitch = MODULE * TEETH[member] / 2
     if member == "ring":
         body = annulus(pitch, RING_OUTER_RADIUS)
-        return Gear(**body, geometry=geometry(member))
+        # the rim radius puts the ring's teeth on a compliant rim (potential-energy law)
+        return Gear(**body, geometry=geometry(member), rim_radius=RING_OUTER_RADIUS)
     body = annulus(BORE_RADIUS[member], pitch)
     return Gear(**body, geometry=geometry(member), bore_radius=BORE_RADIUS[member])
 

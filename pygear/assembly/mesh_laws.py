@@ -18,10 +18,11 @@ parameter and, for a tabulated law, the unit-mean curve.
   eps_alpha + eps_beta with that mean.
 - ``potential_energy``: the pair curve of
   :func:`pygear.assembly.tooth_stiffness.mesh_stiffness` (material of the mesh, bores of
-  the gears) as a tabulated law, k-bar its mean, over its eps_alpha + eps_beta.  The curve
-  runs from where the driving gear's root meets the other's tip with power from the
-  carrier to the sun (or from the input gear to the output gear); for the other power
-  flow the contact table takes it mirrored (:meth:`MeshLaw.oriented_curve`).
+  the gears, a ring's compliant rim) as a tabulated law, k-bar its mean, over its
+  eps_alpha + eps_beta.  The curve runs from where the driving gear's root meets the
+  other's tip with power from the carrier to the sun (or from the input gear to the
+  output gear); for the other power flow the contact table takes it mirrored
+  (:meth:`MeshLaw.oriented_curve`).
 
 Results are cached by their frozen inputs (the mesh, the mesh geometry, the bores, the
 stage's helix), so the element matrices, the contact table and every scene of a case
@@ -37,9 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import CaseError
-from ..model import gear_geometry as geo
 from ..model.case import Case, check_choice
-from ..model.components import DEFAULT_BORE_RATIO, PlanetaryStage
+from ..model.components import PlanetaryStage
 from ..model.gear_geometry import MeshGeometry
 from ..model.gearbox import ParallelStage
 from ..model.geometry_inputs import (
@@ -129,12 +129,22 @@ def _mesh_of(stage: object, member: str):
 
 
 def _bore(gear: object) -> float:
-    """The gear's bore radius for the potential-energy law [m]."""
-    if gear.bore_radius is not None:
-        return float(gear.bore_radius)
-    if gear.geometry is None:
-        return 0.0
-    return DEFAULT_BORE_RATIO * geo.root_radius(gear.geometry)
+    """The radius of the gear's fillet-foundation term for the potential-energy law [m]:
+    an external gear's bore, a ring's rim (:attr:`pygear.model.bodies.Gear.foundation_radius`)."""
+    return gear.foundation_radius
+
+
+def tooth_bodies(
+    mesh: object, geometry: MeshGeometry, radii: tuple[float, float]
+) -> tuple[ToothBody, ToothBody]:
+    """The potential-energy law's bodies of a mesh's two gears (geometry order): the
+    mesh's material, the external gear's bore, the ring's rim (0: rigid)."""
+    return tuple(
+        ToothBody(mesh.young_modulus, mesh.poisson_ratio, 0.0, rim_radius=radius)
+        if gear.internal
+        else ToothBody(mesh.young_modulus, mesh.poisson_ratio, radius)
+        for gear, radius in zip((geometry.gear1, geometry.gear2), radii)
+    )
 
 
 def mesh_law(stage: PlanetaryStage | ParallelStage, member: str) -> MeshLaw:
@@ -218,7 +228,7 @@ def _resolve(key: tuple) -> MeshLaw:
                        contact_ratio=transverse, end_to_peak=float(mesh.end_to_peak),
                        curve=RECTANGLE.copy(), **common)  # fmt: skip
     if law == "potential_energy":
-        bodies = tuple(ToothBody(mesh.young_modulus, mesh.poisson_ratio, bore) for bore in bores)
+        bodies = tooth_bodies(mesh, geometry, bores)
         result = mesh_stiffness(geometry, bodies, driving_gear=driving, path=path)
         curve, mean, span = result.tabulated_curve()
         return MeshLaw(code=LAW_CODES["tabulated"], mean_stiffness=float(mean),

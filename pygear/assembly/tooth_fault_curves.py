@@ -25,8 +25,8 @@ from ..errors import CaseError
 from ..model.case import Case
 from ..model.components import ToothDefect
 from ..model.gearbox import ParallelStage
-from .mesh_laws import _bore, mesh_law
-from .tooth_stiffness import ToothBody, mesh_stiffness
+from .mesh_laws import mesh_law, tooth_bodies
+from .tooth_stiffness import mesh_stiffness
 
 __all__ = ["fault_curves"]
 
@@ -84,10 +84,8 @@ def fault_curves(
             members, driving = _geometry_gears(stage, member)
             side = 1 if defect.member.startswith(members[0]) else 2
             component = stage.mesh if member == "mesh" else getattr(stage, f"{member}_mesh")
-            bodies = tuple(
-                ToothBody(component.young_modulus, component.poisson_ratio, _bore(gear))
-                for gear in (getattr(stage, name) for name in members)
-            )
+            radii = tuple(getattr(stage, name).foundation_radius for name in members)
+            bodies = tooth_bodies(component, law.geometry, radii)
             result = mesh_stiffness(
                 law.geometry,
                 bodies,

@@ -16,7 +16,9 @@ samples of the contact table's ``law_tabulated``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,8 +26,11 @@ import numpy as np
 from ..errors import CaseError
 from ..kernel import _kernel
 from ..model import gear_geometry as geo
+from ..model.bodies import foundation_bore_radius
 from ..model.components import is_finite_number
+from ..model.plausibility import PlausibilityWarning
 from ..model.tooth_faults import ChippedTooth, RootCrack, Spall, ToothFault
+from .ring_rim import rim_compliance, ring_contact_radius, with_rim
 
 __all__ = [
     "ChippedTooth",
@@ -64,15 +69,20 @@ class ToothBody:
     bore_radius : float
         Radius r_int of the bore (or of the hub that holds the rim) [m], entering the
         fillet-foundation term through h_fi = r_f / r_int (Sainsot et al. 2004).  0 leaves
-        the foundation term out (a rigid body, as in Tian 2004).  Ignored for a ring, whose
-        rim is taken as rigid.
+        the foundation term out (a rigid body, as in Tian 2004).  h_fi outside the fit's
+        range :data:`pygear.model.bodies.FOUNDATION_RATIO_RANGE` warns and is taken at the
+        range's edge.  Ignored for a ring.
+    rim_radius : float
+        A ring's rim: its outer radius r_o [m], above the root circle, where the housing
+        holds it; the ring tooth then gets the rim's fillet-foundation term
+        (:mod:`pygear.assembly.ring_rim`).  0 (the default) keeps the rim rigid.  Ignored
+        for an external gear.
     """
 
     young_modulus: float
     poisson_ratio: float
     bore_radius: float
-
-
+    rim_radius: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -169,6 +179,7 @@ def _positive(path: str, name: str, value: object, *, zero: bool = False) -> Non
 def _check_body(body: ToothBody, path: str) -> None:
     _positive(path, "young_modulus", body.young_modulus)
     _positive(path, "bore_radius", body.bore_radius, zero=True)
+    _positive(path, "rim_radius", body.rim_radius, zero=True)
     nu = body.poisson_ratio
     if not (is_finite_number(nu) and 0.0 <= nu < 0.5):
         raise CaseError(f"{path}.poisson_ratio must lie in [0, 0.5) (got {nu!r})")
@@ -205,8 +216,36 @@ def _check_fault(fault: ToothFault, width: float, path: str) -> None:
         raise CaseError(f"{path} must be a RootCrack, Spall or ChippedTooth (got {fault!r})")
 
 
+def _foundation_bore(gear: geo.GearGeometry, body: ToothBody, path: str) -> float:
+    """The bore the kernel takes: 0 for a ring, else the typed bore within the fit's range
+    of h_fi (a warning names the bore taken instead); a bore at or beyond the root circle
+    is an error."""
+    if gear.internal or body.bore_radius == 0:
+        return 0.0
+    root = geo.root_radius(gear)
+    if not body.bore_radius < root:
+        raise CaseError(
+            f"{path}.bore_radius must lie below the root radius r_f = {root * 1e3:.4g} mm "
+            f"(got {body.bore_radius * 1e3:.4g} mm)"
+        )
+    bore, reason = foundation_bore_radius(root, body.bore_radius)
+    if reason is not None:
+        message = f"{path}.bore_radius = {body.bore_radius!r} m {reason}"
+        warnings.warn(message, PlausibilityWarning, stacklevel=3)
+    return bore
+
+
+def _check_rim(gear: geo.GearGeometry, body: ToothBody, path: str) -> None:
+    if gear.internal and body.rim_radius and not body.rim_radius > geo.root_radius(gear):
+        raise CaseError(
+            f"{path}.rim_radius must exceed the ring's root radius r_f = "
+            f"{geo.root_radius(gear) * 1e3:.4g} mm (got {body.rim_radius * 1e3:.4g} mm)"
+        )
+
+
 def _gear_column(gear: geo.GearGeometry, body: ToothBody, allowance: float) -> np.ndarray:
-    """The kernel's derived transverse geometry of one gear."""
+    """The kernel's derived transverse geometry of one gear (``body.bore_radius`` as the
+    kernel takes it: see :func:`_foundation_bore`)."""
     alpha_n = math.radians(gear.normal_pressure_angle_deg)
     alpha_t = geo.transverse_pressure_angle(gear)
     helix = math.radians(abs(gear.helix_angle_deg))
@@ -284,6 +323,11 @@ def mesh_stiffness(
         raise CaseError(f"{path}.bodies must hold one ToothBody per gear (got {len(bodies)})")
     for index, body in enumerate(bodies, start=1):
         _check_body(body, f"{path}.bodies[{index - 1}]")
+    bodies = tuple(
+        dataclasses.replace(body, bore_radius=_foundation_bore(gear, body, f"{path}.bodies[{i}]"))
+        for i, (gear, body) in enumerate(zip((mesh.gear1, mesh.gear2), bodies))
+    )
+    _check_rim(mesh.gear2, bodies[1], f"{path}.bodies[1]")
     _check_count(f"{path}.n_sample", n_sample, 2, 100_000)
     _check_count(f"{path}.n_cycle", n_cycle, 1, 100_000)
     _check_count(f"{path}.n_quad", n_quad, 1, 256)
@@ -325,23 +369,56 @@ def mesh_stiffness(
     names = ("hertz", "bending1", "shear1", "axial1", "foundation1",
              "bending2", "shear2", "axial2", "foundation2")  # fmt: skip
     compliance = {name: np.array(breakdown[row]) for row, name in enumerate(names)}
-    pair = np.array(pair)
+    pair, faulty = np.array(pair), np.array(faulty)
+    cycle, window = np.array(cycle), np.array(window)
+    if mesh.gear2.internal and bodies[1].rim_radius > 0:
+        rim = rim_compliance(
+            mesh.gear2,
+            float(columns[0 if driving_gear == 2 else 1][5]),
+            bodies[1].rim_radius,
+            bodies[1].young_modulus,
+            width,
+            ring_contact_radius(mesh, base_pitch, spur_position, driving_gear == 1),
+        )
+        transverse = sum(compliance.values())
+        pair = with_rim(pair, transverse, rim, eps_alpha, eps_beta, slices)
+        faulty = with_rim(faulty, transverse, rim, eps_alpha, eps_beta, slices)
+        compliance["foundation2"] = rim
+        cycle, window = _summed(pair, faulty, eps, n_cycle, n_window)
     return MeshStiffness(
         contact_ratio=eps_alpha,
         overlap_ratio=eps_beta,
         base_pitch=base_pitch,
         position=np.linspace(0.0, eps, n_sample),
         pair=pair,
-        faulty_pair=np.array(faulty),
+        faulty_pair=faulty,
         spur_position=spur_position,
         compliance=compliance,
         cycle_position=np.arange(n_cycle) / n_cycle,
-        mesh=np.array(cycle),
+        mesh=cycle,
         window_position=np.arange(n_cycle * n_window) / n_cycle,
-        faulty_mesh=np.array(window),
+        faulty_mesh=window,
         mean_stiffness=eps * _trapezoid_mean(pair),
         fault=fault,
     )
+
+
+def _summed(
+    pair: np.ndarray, faulty: np.ndarray, eps: float, n_cycle: int, n_window: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh stiffness over a healthy cycle and over the damaged tooth's window, summed
+    from pair curves sampled over [0, eps] (linear interpolation between samples)."""
+    position = np.linspace(0.0, eps, pair.size)
+    n_pair = math.ceil(eps) + 1
+
+    def at(curve: np.ndarray, p: np.ndarray) -> np.ndarray:
+        return np.interp(p, position, curve, left=0.0, right=0.0)
+
+    s = np.arange(n_cycle) / n_cycle
+    cycle = sum(at(pair, s + m) for m in range(n_pair + 1))
+    s = np.arange(n_cycle * n_window) / n_cycle
+    window = at(faulty, s) + sum(at(pair, s - m) for m in range(-n_pair, n_pair + 1) if m)
+    return cycle, window
 
 
 def tooth_compliance(
@@ -364,6 +441,8 @@ def tooth_compliance(
     """
     gear.validate(path)
     _check_body(body, f"{path}.body")
+    body = dataclasses.replace(body, bore_radius=_foundation_bore(gear, body, f"{path}.body"))
+    _check_rim(gear, body, f"{path}.body")
     _check_count(f"{path}.n_quad", n_quad, 1, 256)
     radii = np.atleast_1d(np.asarray(contact_radius, dtype=float))
     if radii.size == 0 or not np.all(np.isfinite(radii)):
@@ -378,5 +457,9 @@ def tooth_compliance(
         _raise_kernel(path, "the potential-energy tooth", ierr, bad)
     names = ("bending", "shear", "axial", "foundation")
     result = {name: np.array(values[row]) for row, name in enumerate(names)}
+    if gear.internal and body.rim_radius > 0:
+        result["foundation"] = rim_compliance(
+            gear, float(column[5]), body.rim_radius, body.young_modulus, gear.face_width, radii
+        )
     result["load_angle"] = np.array(angle)
     return result

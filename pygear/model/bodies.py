@@ -4,9 +4,11 @@ validation beside its fields (SI values; see :mod:`pygear.model.components`)."""
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 from ..errors import CaseError
+from . import gear_geometry as geo
 from .component_rules import (
     derived_record,
     is_whole_number,
@@ -15,16 +17,20 @@ from .component_rules import (
 )
 from .gear_geometry import GearGeometry
 from .geometry_inputs import check_gear, fill_gear
-from .plausibility import warn_if_implausible
+from .plausibility import PlausibilityWarning, warn_if_implausible
 
 __all__ = [
     "DEFAULT_BORE_RATIO",
+    "FOUNDATION_RATIO_RANGE",
     "MODULE_PRESSURE_ANGLE_DEG",
     "TOOTH_RATIO_TOLERANCE",
     "Body",
     "Carrier",
     "Gear",
+    "check_foundation_bore",
+    "foundation_bore_radius",
     "require_matching_teeth",
+    "ring_rim_ratio",
 ]
 
 
@@ -86,8 +92,16 @@ class Gear(Body):
     bore_radius : float or None
         Radius of the bore or hub seat r_int [m], for the fillet-foundation term of the
         ``potential_energy`` law (Sainsot et al. 2004); 0 leaves the term out (a rigid
-        body).  None takes half the root radius (:data:`DEFAULT_BORE_RATIO`).  Unused
-        for a ring, whose rim the law takes as rigid.
+        body).  None takes half the root radius (:data:`DEFAULT_BORE_RATIO`).  h_fi = r_f /
+        r_int outside :data:`FOUNDATION_RATIO_RANGE` warns and is taken at the range's
+        edge.  Unused for a ring (see ``rim_radius``).
+    rim_radius : float or None
+        A ring's rim: the outer radius r_o [m] where the housing holds it, above the root
+        radius, for the rim's fillet-foundation term of the ``potential_energy`` law
+        (:mod:`pygear.assembly.ring_rim`): where the rim is known, the ring's teeth sit
+        on a compliant rim.  None or 0 keeps the rim rigid (the ring mesh then comes out
+        some 30 to 50 % stiffer: docs/potential_energy.md).  Only a ring (an internal
+        ``geometry``) takes it.
     """
 
     base_radius: float | None = None
@@ -95,6 +109,7 @@ class Gear(Body):
     module: float | None = None
     geometry: GearGeometry | None = None
     bore_radius: float | None = None
+    rim_radius: float | None = None
 
     def __post_init__(self) -> None:
         fill_gear(self)
@@ -105,6 +120,9 @@ class Gear(Body):
         if self.bore_radius is not None:
             require_non_negative(f"{path}.bore_radius", self.bore_radius)
             warn_if_implausible(f"{path}.bore_radius", "radius", self.bore_radius, zero_ok=True)
+        if self.rim_radius is not None:
+            require_non_negative(f"{path}.rim_radius", self.rim_radius)
+            self._check_rim(path)
         if self.base_radius is None:
             raise CaseError(
                 f"{path}.base_radius must be given, or derived: give the gear a geometry "
@@ -133,12 +151,116 @@ class Gear(Body):
                 f"(implied pressure angle: {implied})"
             )
 
+    def _check_rim(self, path: str) -> None:
+        """A typed rim radius belongs to a ring and lies outside its root circle."""
+        if self.rim_radius == 0 or not isinstance(self.geometry, GearGeometry):
+            return
+        if not self.geometry.internal:
+            raise CaseError(
+                f"{path}.rim_radius is the outer radius of a ring's rim; this gear is external: "
+                "leave it out (its body is given by bore_radius)"
+            )
+        root = geo.root_radius(self.geometry)
+        if not self.rim_radius > root:
+            raise CaseError(
+                f"{path}.rim_radius must exceed the ring's root radius r_f = {root * 1e3:.4g} mm "
+                f"(got {self.rim_radius * 1e3:.4g} mm): the rim lies outside the tooth roots"
+            )
+        warn_if_implausible(f"{path}.rim_radius", "radius", self.rim_radius)
+
+    @property
+    def foundation_radius(self) -> float:
+        """The radius the ``potential_energy`` law's fillet-foundation term uses [m]: an
+        external gear's bore r_int (typed, else :data:`DEFAULT_BORE_RATIO` r_f, within
+        :data:`FOUNDATION_RATIO_RANGE`), a ring's rim radius r_o; 0 for a rigid body (a
+        ring whose rim is not given) or a gear without geometry."""
+        geometry = self.geometry
+        if not isinstance(geometry, GearGeometry):
+            return float(self.bore_radius or 0.0)
+        root = geo.root_radius(geometry)
+        if geometry.internal:
+            return float(self.rim_radius or 0.0)
+        bore = DEFAULT_BORE_RATIO * root if self.bore_radius is None else float(self.bore_radius)
+        return foundation_bore_radius(root, bore)[0]
+
+
+def check_foundation_bore(path: str, gear: Gear) -> None:
+    """Rules of a gear's bore for the ``potential_energy`` law (gear geometry known):
+    an error for a bore at or beyond the root circle, a warning (the range's edge is
+    taken) for h_fi = r_f / r_int outside :data:`FOUNDATION_RATIO_RANGE`."""
+    geometry, bore = gear.geometry, gear.bore_radius
+    if not isinstance(geometry, GearGeometry) or geometry.internal or not bore:
+        return
+    root = geo.root_radius(geometry)
+    if not bore < root:
+        raise CaseError(
+            f"{path}.bore_radius must lie below the root radius r_f = {root * 1e3:.4g} mm "
+            f"(got {bore * 1e3:.4g} mm): the bore would cut the tooth roots"
+        )
+    reason = foundation_bore_radius(root, bore)[1]
+    if reason is not None:
+        warnings.warn(
+            f"{path}.bore_radius = {bore!r} m {reason}", PlausibilityWarning, stacklevel=3
+        )
+
 
 DEFAULT_BORE_RATIO = 0.5
 """Bore radius over root radius of a gear whose ``bore_radius`` is left out: h_fi = r_f /
 r_int = 2, a gear body on a shaft or a planet on its bearing (Tian's 2004 pair has 2.4
 and 2.6).  The fillet foundation is the largest compliance of a tooth pair
 (docs/potential_energy.md), so a case that knows its bores should type them."""
+
+FOUNDATION_RATIO_RANGE = (1.4, 7.0)
+"""The range of h_fi = r_f / r_int over which Sainsot, Velex & Duverger (2004) fitted
+their fillet-foundation polynomials (L*, M*, P*, Q*) to finite-element results.  The
+fit is quadratic in h_fi: beyond the range it does not level off as a gear body does
+but grows as h_fi^2 (P* from 12.5 at h_fi = 7 to 310 at 40), so a bore of a few
+millimetres under a 40 mm root makes the tooth pair 10^2 .. 10^5 times too soft; Q*
+passes its minimum near h_fi = 8 already.  A bore outside the range is taken at the
+range's edge (:func:`foundation_bore_radius`), with a warning naming the parameter."""
+
+
+def foundation_bore_radius(root_radius: float, bore_radius: float) -> tuple[float, str | None]:
+    """The bore radius the fillet-foundation term uses, and why it differs from the typed one.
+
+    Parameters
+    ----------
+    root_radius : float
+        Root radius r_f [m], > 0.
+    bore_radius : float
+        Typed bore radius r_int [m], >= 0; 0 leaves the term out (returned unchanged).
+
+    Returns
+    -------
+    bore : float
+        ``bore_radius`` when h_fi = r_f / r_int lies in :data:`FOUNDATION_RATIO_RANGE`
+        (or the bore is 0), else the bore at the range's nearer edge.
+    reason : str or None
+        None, or the rule the typed bore breaks and the value taken instead.
+    """
+    if bore_radius <= 0:
+        return bore_radius, None
+    low, high = FOUNDATION_RATIO_RANGE
+    ratio = root_radius / bore_radius
+    if low * (1 - 1e-9) <= ratio <= high * (1 + 1e-9):  # round-off of a bore typed as r_f/7
+        return bore_radius, None
+    edge = high if ratio > high else low
+    taken = root_radius / edge
+    return taken, (
+        f"gives h_fi = r_f / r_int = {root_radius * 1e3:.4g} mm / {bore_radius * 1e3:.4g} mm = "
+        f"{ratio:.3g}, outside the range {low:g} .. {high:g} of Sainsot et al.'s (2004) "
+        f"fillet-foundation fit; the potential_energy law takes r_int = "
+        f"{taken * 1e3:.4g} mm (h_fi = {edge:g}) instead"
+    )
+
+
+def ring_rim_ratio(root_radius: float, rim_radius: float) -> float:
+    """h of a ring's rim for the fillet-foundation fit: r_o / r_f, the rim annulus's outer
+    over its inner radius, as h_fi = r_f / r_int is a gear body's (clamped where the
+    housing holds it, as the gear body at its bore), taken no lower than the fit's
+    lower edge :data:`FOUNDATION_RATIO_RANGE` and no higher than its upper edge."""
+    low, high = FOUNDATION_RATIO_RANGE
+    return min(max(rim_radius / root_radius, low), high)
 
 
 TOOTH_RATIO_TOLERANCE = 0.03

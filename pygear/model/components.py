@@ -21,12 +21,16 @@ from ..errors import CaseError  # re-exported: pygear.errors.CaseError
 from .bearings import Bearing, PlanetBearing
 from .bodies import (
     DEFAULT_BORE_RATIO,
+    FOUNDATION_RATIO_RANGE,
     MODULE_PRESSURE_ANGLE_DEG,
     TOOTH_RATIO_TOLERANCE,
     Body,
     Carrier,
     Gear,
+    check_foundation_bore,
+    foundation_bore_radius,
     require_matching_teeth,
+    ring_rim_ratio,
 )
 from .component_rules import (
     AXIAL_LIMIT,
@@ -50,6 +54,7 @@ from .planetary import PlanetaryStage
 __all__ = [
     "AXIAL_LIMIT",
     "DEFAULT_BORE_RATIO",
+    "FOUNDATION_RATIO_RANGE",
     "MAGNITUDE_LIMIT",
     "MAX_CONTACT_RATIO",
     "MODULE_PRESSURE_ANGLE_DEG",
@@ -59,12 +64,14 @@ __all__ = [
     "CaseError",
     "Carrier",
     "check_backlash",
+    "check_foundation_bore",
     "Gear",
     "Mesh",
     "PlanetBearing",
     "PlanetaryStage",
     "ToothDefect",
     "derived_record",
+    "foundation_bore_radius",
     "is_finite_number",
     "is_whole_number",
     "looks_like_radians",
@@ -73,6 +80,7 @@ __all__ = [
     "require_matching_teeth",
     "require_non_negative",
     "require_positive",
+    "ring_rim_ratio",
     "transverse_module_of",
     "validate_component",
 ]

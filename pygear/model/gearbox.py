@@ -20,6 +20,7 @@ from .components import (
     Mesh,
     PlanetaryStage,
     check_backlash,
+    check_foundation_bore,
     derived_record,
     is_whole_number,
     require_axial_position,
@@ -147,6 +148,9 @@ class ParallelStage:
             path, {"input_gear": self.input_gear, "output_gear": self.output_gear}
         )
         require_axial_position(f"{path}.axial_position", self.axial_position)
+        if self.mesh.law == "potential_energy":
+            for name in ("input_gear", "output_gear"):
+                check_foundation_bore(f"{path}.{name}", getattr(self, name))
         check_backlash(
             f"{path}.mesh.backlash",
             self.mesh.backlash,

@@ -274,9 +274,7 @@ def fill_planetary_stage(stage: object) -> None:
         pair = _pair(first, second, None, None)
         if pair is not None and distance is None:
             distance = _zero_backlash_distance(pair)
-    object.__setattr__(
-        stage, "carrier", _with_values(stage.carrier, {"radius": (distance, None)})
-    )
+    object.__setattr__(stage, "carrier", _with_values(stage.carrier, {"radius": (distance, None)}))
     for member in ("sun", "ring"):
         _fill_mesh(stage, f"{member}_mesh", planetary_mesh_geometry(stage, member))
     helix = next(

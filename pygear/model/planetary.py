@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 from ..errors import CaseError
 from .bearings import Bearing, PlanetBearing
-from .bodies import Carrier, Gear, require_matching_teeth
+from .bodies import Carrier, Gear, check_foundation_bore, require_matching_teeth
 from .component_rules import (
     check_backlash,
     derived_record,
@@ -192,6 +192,11 @@ class PlanetaryStage:
                 f"({self.ring.base_radius} <= {self.planet.base_radius})"
             )
         self._validate_radii(path)
+        laws = (self.sun_mesh.law, self.ring_mesh.law)
+        if "potential_energy" in laws:
+            members = ("sun", "planet") if laws[0] == "potential_energy" else ("planet",)
+            for member in members:
+                check_foundation_bore(f"{path}.{member}", getattr(self, member))
         for name in ("sun_mesh", "ring_mesh"):
             mesh = getattr(self, name)
             module = transverse_module_of(self.planet, mesh.pressure_angle_deg)
