@@ -185,9 +185,13 @@ def solve_hill(
         [plus.imag.reshape(size, size), minus.real.reshape(size, size)[:, n_mesh:]], axis=1
     )[n_mesh:]
     matrix = np.concatenate([real_rows, imag_rows], axis=0)
-    static = system.force / system.eigenvalues  # D_0^-1 f
-    rhs = np.zeros(matrix.shape[0])
-    rhs[:n_mesh] = system.mesh_rows @ static
+    forcing = np.zeros((h + 1, system.size), dtype=complex)
+    forcing[0] = system.force
+    if system.harmonic_force is not None:
+        extra = system.harmonic_force[:h]
+        forcing[1 : 1 + extra.shape[0]] = extra
+    response = np.einsum("jin,ji->jn", solved[: h + 1], forcing)  # B D_j^-1 f_j
+    rhs = np.concatenate([response.real.reshape(-1), response.imag[1:].reshape(-1)])
     factor = scipy.linalg.lu_factor(matrix, check_finite=False)
     unknowns = scipy.linalg.lu_solve(factor, rhs, check_finite=False)
     half = unknowns[:size].reshape(h + 1, n_mesh).astype(complex)
@@ -195,8 +199,14 @@ def solve_hill(
     deflection = np.concatenate([np.conj(half[:0:-1]), half])  # -H..H
     toeplitz = _toeplitz(coefficients[h : 5 * h + 1], h)  # c over -2H..2H
     load = np.einsum("jkm,km->jm", toeplitz, deflection)[h:]  # (T delta)_j, j = 0..H
-    upper = -np.einsum("jin,jn->ji", solved[: h + 1], load)
-    upper[0] += static
+    lam, c = system.eigenvalues, system.damping
+    w = np.arange(h + 1) * omega
+    dynamic = (
+        np.diag(lam)[None]
+        - (w**2)[:, None, None] * np.eye(lam.size)
+        + 1j * w[:, None, None] * c[None]
+    )
+    upper = np.linalg.solve(dynamic, (forcing - load @ system.mesh_rows)[..., None])[..., 0]
     coordinates = np.concatenate([np.conj(upper[:0:-1]), upper])
     residual = _residual(system, receptance, coefficients, deflection, h)
     return HillSolution(h, omega, deflection, coordinates, residual)

@@ -43,7 +43,6 @@ from ...assembly.matrices import Model
 from ...errors import CaseError
 from ...linalg import generalized_eigh
 from ...model.case import Case, Scene
-from ...model.components import PlanetaryStage
 from ...rigid_modes import rigid_body_mask
 
 __all__ = [
@@ -103,6 +102,9 @@ class ResponseSystem:
         The assembled model.
     attrs : dict
         What the dataset records (input, output, torque, snapping of mesh ratios).
+    harmonic_force : ndarray, complex, shape (K, n), optional
+        f_k, k = 1..K, of a periodic force f + sum_k (f_k e^{i k omega t} + c.c.) in
+        modal coordinates (a transmission-error excitation); None: the static load alone.
     """
 
     eigenvalues: np.ndarray
@@ -120,6 +122,7 @@ class ResponseSystem:
     modes: np.ndarray
     model: Model | None = None
     attrs: dict = field(default_factory=dict)
+    harmonic_force: np.ndarray | None = None
 
     @property
     def size(self) -> int:
@@ -156,8 +159,8 @@ class ResponseSystem:
 
 def _input_output(case: Case, scene: Scene | None) -> tuple[str, str | None, float]:
     """Input and output members and the drive torque: the scene's transient settings,
-    else the first transient scene's, else the first planetary stage's carrier and sun
-    at 1 N m (the response is linear in the torque)."""
+    else the first transient scene's, else the gearbox's input and output at 1 N m (the
+    response is linear in the torque)."""
     settings = scene.transient if scene is not None else None
     if settings is None:
         settings = next((s.transient for s in case.scenes if s.transient is not None), None)
@@ -168,13 +171,7 @@ def _input_output(case: Case, scene: Scene | None) -> tuple[str, str | None, flo
         torque = max(values) or 1.0
     if settings is not None and settings.input:
         return settings.input, settings.output, torque
-    for stage in case.gearbox.stages:
-        if isinstance(stage, PlanetaryStage):
-            return f"{stage.name}.carrier.theta_z", f"{stage.name}.sun.theta_z", torque
-    raise CaseError(
-        f"response: case {case.name!r} names no input member (give a scene with transient "
-        "settings, or a planetary stage whose carrier is the input)"
-    )
+    return case.gearbox.input, case.gearbox.output, torque
 
 
 def _snap(ratio: float) -> Fraction:
