@@ -398,7 +398,7 @@ def test_ring_mesh_and_driving_direction():
         ({"bodies": (ToothBody(YOUNG, 0.6, 0.01), WHEEL_BODY)}, "poisson_ratio"),
         ({"bodies": (ToothBody(YOUNG, 0.3, 0.5), WHEEL_BODY)}, "bore_radius"),
         ({"fault": RootCrack(3, 1e-3, 45.0)}, "fault.gear"),
-        ({"fault": RootCrack(1, 9e-3, 90.0)}, "fault.a"),
+        ({"fault": RootCrack(1, 9e-3, 90.0)}, r"fault\.depth = 0\.009"),
         ({"fault": Spall(1, 0.031, 1e-3, 1e-4, 0.02)}, "face_width"),
         ({"fault": ChippedTooth(1, 1.5)}, "missing_fraction"),
         ({"n_quad": 0}, "n_quad"),

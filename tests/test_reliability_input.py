@@ -424,3 +424,57 @@ def test_numpy_scalars_are_accepted_where_numbers_are(study_case):
     loaded = dataclasses.replace(study_case, scenes=(scene,))
     assert type(loaded.scenes[0].transient.max_iterations) is int
     settings.validate("scenes.runup.transient")  # also before a case stores plain numbers
+
+
+# --- 7. tooth faults (issue #27.4) ------------------------------------------------------------
+
+SEQUENTIAL = ROOT / "cases" / "sequential_planetary"
+
+
+def _with_fault(case, fault):
+    from pygear import ToothDefect
+
+    return dataclasses.replace(case, defects=(ToothDefect("planetary.sun", 3, fault=fault),))
+
+
+def test_spall_off_the_tooth_is_refused_when_the_case_loads():
+    # the sun (z 29, m 3 mm): flank from its root form circle (41.33 mm) to its tip
+    # (m (z/2 + 1) = 46.5 mm); 42 typed for 42 mm is 42 m, a spall that changed nothing
+    from pygear.model.tooth_faults import Spall
+
+    case = load_case(SEQUENTIAL)
+    _with_fault(case, Spall(1, 42e-3, 1e-3, 0.1e-3, 10e-3)).validate()
+    rule = (
+        r"^defects\[0\]\.fault\.centre_radius = 42\.0 m .* off the loaded flank: .* root form "
+        r"radius 41\.33 mm .* tip radius 46\.5 mm"
+    )
+    with pytest.raises(CaseError, match=rule):
+        _with_fault(case, Spall(1, 42.0, 1e-3, 0.1e-3, 10e-3)).validate()
+
+
+def test_crack_through_the_tooth_names_its_depth():
+    from pygear.model.tooth_faults import RootCrack
+
+    with pytest.raises(CaseError, match=r"^defects\[0\]\.fault\.depth = 5\.0 m .* circular pitch"):
+        _with_fault(load_case(SEQUENTIAL), RootCrack(1, 5.0, 45.0)).validate()
+
+
+@pytest.mark.parametrize(
+    ("spall", "named"),
+    [
+        ((0.031, 1e-3, 3e-3, 0.01), r"fault\.depth = 0\.003"),  # deeper than the tooth
+        ((0.029, 6e-3, 1e-4, 0.01), r"fault\.length = 0\.006"),  # below the base circle
+    ],
+)
+def test_fault_the_kernel_refuses_is_named_by_its_own_parameter(spall, named):
+    # the kernel packs a spall's centre_radius, length, depth as slots a, b, c: its
+    # message used to blame fault.c (or fault.a) instead of the parameter typed
+    from pygear.assembly.tooth_stiffness import ToothBody, mesh_stiffness
+    from pygear.model import GearGeometry, MeshGeometry
+    from pygear.model.tooth_faults import Spall
+
+    pair = MeshGeometry(GearGeometry(19, 3.2e-3, 0.016), GearGeometry(48, 3.2e-3, 0.016))
+    bodies = (ToothBody(2.068e11, 0.3, 0.01), ToothBody(2.068e11, 0.3, 0.03))
+    with pytest.raises(CaseError, match=named) as error:
+        mesh_stiffness(pair, bodies, fault=Spall(1, *spall))
+    assert not re.search(r"fault\.[abc]\b", str(error.value))

@@ -29,7 +29,15 @@ from ..model import gear_geometry as geo
 from ..model.bodies import foundation_bore_radius
 from ..model.components import is_finite_number
 from ..model.plausibility import PlausibilityWarning
-from ..model.tooth_faults import ChippedTooth, RootCrack, Spall, ToothFault
+from ..model.tooth_faults import (
+    ChippedTooth,
+    RootCrack,
+    Spall,
+    ToothFault,
+    check_fault_fields,
+    check_fault_on_tooth,
+    field_names,
+)
 from .ring_rim import rim_compliance, ring_contact_radius, with_rim
 
 __all__ = [
@@ -47,7 +55,6 @@ _GEAR_NAMES = (
     "tooth thickness (half angle at the base circle)", "base helix angle", "face_width",
     "bore_radius", "young_modulus", "poisson_ratio", "internal",
 )  # fmt: skip
-_FAULT_NAMES = ("kind", "gear", "face_start", "face_width", "a", "b", "c")
 _ERRORS = {
     1: "a parameter is out of range",
     2: "the gears cannot mesh as given (contact off the involute, or eps_alpha < 1)",
@@ -190,30 +197,19 @@ def _check_count(name: str, value: object, low: int, high: int) -> None:
         raise CaseError(f"{name} must be a whole number in [{low}, {high}] (got {value!r})")
 
 
-def _check_fault(fault: ToothFault, width: float, path: str) -> None:
-    if fault.gear not in (1, 2):
-        raise CaseError(f"{path}.gear must be 1 or 2 (got {fault.gear!r})")
-    _positive(path, "face_start", fault.face_start, zero=True)
+def _check_fault(
+    fault: ToothFault, width: float, path: str, gears: tuple[geo.GearGeometry, geo.GearGeometry]
+) -> None:
+    """Rules of a fault, before the kernel: its own ranges, then its place on the tooth of
+    ``gears[fault.gear - 1]`` (:func:`pygear.model.tooth_faults.check_fault_on_tooth`)."""
+    check_fault_fields(fault, path)
     if fault.face_start >= width:
         raise CaseError(f"{path}.face_start must lie within the face width {width!r} m")
-    if fault.face_width is not None:
-        _positive(path, "face_width", fault.face_width)
-        if fault.face_start + fault.face_width > width * (1 + 1e-12):
-            raise CaseError(f"{path}: face_start + face_width must not exceed the face width "
-                            f"{width!r} m")  # fmt: skip
-    if isinstance(fault, RootCrack):
-        _positive(path, "depth", fault.depth)
-        if not (is_finite_number(fault.angle_deg) and 0.0 < fault.angle_deg <= 90.0):
-            raise CaseError(f"{path}.angle_deg must lie in (0, 90] (got {fault.angle_deg!r})")
-    elif isinstance(fault, Spall):
-        for name in ("centre_radius", "length", "depth"):
-            _positive(path, name, getattr(fault, name))
-    elif isinstance(fault, ChippedTooth):
-        share = fault.missing_fraction
-        if not (is_finite_number(share) and 0.0 < share <= 1.0):
-            raise CaseError(f"{path}.missing_fraction must lie in (0, 1] (got {share!r})")
-    else:
-        raise CaseError(f"{path} must be a RootCrack, Spall or ChippedTooth (got {fault!r})")
+    if fault.face_width is not None and fault.face_start + fault.face_width > width * (1 + 1e-12):
+        raise CaseError(
+            f"{path}: face_start + face_width must not exceed the face width {width!r} m"
+        )
+    check_fault_on_tooth(fault, gears[fault.gear - 1], path)
 
 
 def _foundation_bore(gear: geo.GearGeometry, body: ToothBody, path: str) -> float:
@@ -262,14 +258,19 @@ def _gear_column(gear: geo.GearGeometry, body: ToothBody, allowance: float) -> n
     ], dtype=float)  # fmt: skip
 
 
-def _raise_kernel(path: str, routine: str, ierr: int, bad: int) -> None:
+def _raise_kernel(
+    path: str, routine: str, ierr: int, bad: int, fault: ToothFault | None = None
+) -> None:
     reason = _ERRORS.get(int(ierr), f"error code {int(ierr)}")
     if 100 < bad < 300:
         where = f"gear{bad // 100}.{_GEAR_NAMES[bad % 100 - 1]}"
     elif 300 < bad < 303:
         where = ("centre distance", "working pressure angle")[bad - 301]
     elif 1000 < bad < 1008:
-        where = f"fault.{_FAULT_NAMES[bad - 1001]}"
+        name = field_names(fault)[bad - 1001]
+        value = getattr(fault, name, None)
+        shown = f" = {value!r}" if value is not None else ""
+        where = f"fault.{name}{shown}"
     elif bad > 2000:
         where = f"contact_radius[{bad - 2001}]"
     else:
@@ -339,7 +340,7 @@ def mesh_stiffness(
     width = min(mesh.gear1.face_width, mesh.gear2.face_width)
     packed = np.zeros(8)
     if fault is not None:
-        _check_fault(fault, width, f"{path}.fault")
+        _check_fault(fault, width, f"{path}.fault", (mesh.gear1, mesh.gear2))
         packed = fault.packed(width)
     columns = [
         _gear_column(mesh.gear1, bodies[0], mesh.thickness_allowances[0]),
@@ -362,7 +363,7 @@ def mesh_stiffness(
         gears, operating, packed, n_sample, n_cycle, n_window, slices, n_quad
     )
     if ierr:
-        _raise_kernel(path, "the potential-energy stiffness", ierr, bad)
+        _raise_kernel(path, "the potential-energy stiffness", ierr, bad, fault)
     spur_position = np.linspace(0.0, eps_alpha, n_sample)
     if driving_gear == 2:
         breakdown = breakdown[[0, 5, 6, 7, 8, 1, 2, 3, 4]]
@@ -449,12 +450,12 @@ def tooth_compliance(
         raise CaseError(f"{path}.contact_radius must be finite radii [m] (got {contact_radius!r})")
     packed = np.zeros(8)
     if fault is not None:
-        _check_fault(fault, gear.face_width, f"{path}.fault")
+        _check_fault(fault, gear.face_width, f"{path}.fault", (gear, gear))
         packed = fault.packed(gear.face_width)
     column = _gear_column(gear, body, thickness_allowance)
     values, angle, bad, ierr = _kernel.pe_tooth_compliance(column, packed, radii, n_quad)
     if ierr:
-        _raise_kernel(path, "the potential-energy tooth", ierr, bad)
+        _raise_kernel(path, "the potential-energy tooth", ierr, bad, fault)
     names = ("bending", "shear", "axial", "foundation")
     result = {name: np.array(values[row]) for row, name in enumerate(names)}
     if gear.internal and body.rim_radius > 0:

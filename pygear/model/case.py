@@ -20,6 +20,7 @@ from .drivetrain import Drivetrain
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
 from .sensors import Sensor, validate_sensors
+from .tooth_faults import check_fault_on_tooth
 from .transient_settings import Transient
 
 __all__ = [
@@ -307,6 +308,11 @@ def require_file_name(path: str, name: object) -> None:
         )
 
 
+def member_of(member: str) -> str:
+    """The stage attribute of a member name: ``planet`` for ``planet<n>``."""
+    return "planet" if member.startswith("planet") else member
+
+
 def validate_defects(gearbox: Gearbox, defects: tuple, path: str) -> None:
     """Check tooth defects against the gearbox; raise :class:`CaseError` naming the first bad one.
 
@@ -346,6 +352,9 @@ def validate_defects(gearbox: Gearbox, defects: tuple, path: str) -> None:
                 f"{where}.tooth {defect.tooth} does not exist on {defect.gear}: teeth "
                 f"are numbered 0 .. {teeth - 1} (0-based, {teeth} teeth)"
             )
+        geometry = getattr(getattr(stage, member_of(defect.member), None), "geometry", None)
+        if defect.fault is not None and geometry is not None:
+            check_fault_on_tooth(defect.fault, geometry, f"{where}.fault")
         key = (defect.gear, int(defect.tooth))
         if key in seen:
             raise CaseError(f"{where}: tooth {defect.tooth} of {defect.gear} is listed twice")

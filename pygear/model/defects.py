@@ -3,12 +3,13 @@ fields."""
 
 from __future__ import annotations
 
+import dataclasses
 import numbers
 from dataclasses import dataclass
 
 from ..errors import CaseError
 from .component_rules import is_finite_number
-from .tooth_faults import ChippedTooth, RootCrack, Spall
+from .tooth_faults import ChippedTooth, RootCrack, Spall, check_fault_fields
 
 __all__ = ["ToothDefect"]
 
@@ -84,3 +85,6 @@ class ToothDefect:
                 f"{path}.fault must be a RootCrack, Spall or ChippedTooth "
                 f"(got {type(self.fault).__name__})"
             )
+        if self.fault is not None:
+            # the fault's own gear index is not read here: ``gear`` names the tooth
+            check_fault_fields(dataclasses.replace(self.fault, gear=1), f"{path}.fault")

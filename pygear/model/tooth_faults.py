@@ -14,7 +14,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ChippedTooth", "RootCrack", "Spall", "ToothFault"]
+from ..errors import CaseError
+from . import gear_geometry as geo
+from .values import is_finite_number
+
+__all__ = [
+    "ChippedTooth",
+    "RootCrack",
+    "Spall",
+    "ToothFault",
+    "check_fault_fields",
+    "check_fault_on_tooth",
+    "field_names",
+]
 
 
 @dataclass(frozen=True)
@@ -108,3 +120,92 @@ class ChippedTooth:
 
 
 ToothFault = RootCrack | Spall | ChippedTooth
+
+
+KERNEL_FIELDS = {
+    RootCrack: ("depth", "angle_deg", None),
+    Spall: ("centre_radius", "length", "depth"),
+    ChippedTooth: ("missing_fraction", None, None),
+}
+"""The parameters a fault's packed slots a, b, c hold (the kernel's ``fp_a`` .. ``fp_c``)."""
+
+
+def field_names(fault: object) -> tuple[str, ...]:
+    """Names of a fault's packed slots kind, gear, face_start, face_width, a, b, c as the
+    fault's own parameters (``a`` of a spall is ``centre_radius``), for error messages."""
+    a, b, c = KERNEL_FIELDS.get(type(fault), ("a", "b", "c"))
+    return ("kind", "gear", "face_start", "face_width", a or "a", b or "b", c or "c")
+
+
+def check_fault_on_tooth(fault: object, gear: geo.GearGeometry, path: str) -> None:
+    """Raise :class:`CaseError` when a fault lies off its tooth: a spall's centre off the
+    involute flank (between the root form and tip circles), a crack deeper than the
+    tooth is thick at its root, a face extent beyond the face width.
+
+    ``path`` names the fault (``defects[0].fault``); the message names the fault's own
+    parameter, its value in mm and the range the tooth allows.
+    """
+    width = gear.face_width
+    start = fault.face_start
+    if is_finite_number(start) and not 0 <= start < width:
+        raise CaseError(
+            f"{path}.face_start = {start!r} m must lie within the face width [0, {width * 1e3:.4g}"
+            " mm) (a value in mm typed as m?)"
+        )
+    span = fault.face_width
+    if span is not None and is_finite_number(span) and is_finite_number(start):
+        if not 0 < span <= (width - start) * (1 + 1e-12):
+            raise CaseError(
+                f"{path}.face_width = {span!r} m must lie in (0, {(width - start) * 1e3:.4g} mm]: "
+                "face_start + face_width within the gear's face width"
+            )
+    if isinstance(fault, Spall) and is_finite_number(fault.centre_radius):
+        tip, form = geo.tip_radius(gear), geo.root_form_radius(gear)
+        low, high = sorted((tip, form))
+        if not low <= fault.centre_radius <= high:
+            raise CaseError(
+                f"{path}.centre_radius = {fault.centre_radius!r} m = "
+                f"{fault.centre_radius * 1e3:.4g} mm is off the loaded flank: it must lie between "
+                f"the {'tip' if gear.internal else 'root form'} radius {low * 1e3:.4g} mm and the "
+                f"{'root form' if gear.internal else 'tip'} radius {high * 1e3:.4g} mm "
+                "(a value in mm typed as m?)"
+            )
+    if isinstance(fault, RootCrack) and is_finite_number(fault.depth):
+        pitch = math.pi * geo.transverse_module(gear)
+        if fault.depth >= pitch:
+            raise CaseError(
+                f"{path}.depth = {fault.depth!r} m = {fault.depth * 1e3:.4g} mm must be below "
+                f"the circular pitch {pitch * 1e3:.4g} mm (a crack through the whole tooth and "
+                "beyond; a value in mm typed as m?)"
+            )
+
+
+def _require(path: str, name: str, value: object, *, zero: bool = False) -> None:
+    ok = is_finite_number(value) and (value >= 0.0 if zero else value > 0.0)
+    if not ok:
+        rule = "a finite number >= 0" if zero else "a positive finite number"
+        raise CaseError(f"{path}.{name} must be {rule} (got {value!r})")
+
+
+def check_fault_fields(fault: object, path: str) -> None:
+    """Raise :class:`CaseError` naming the first field of a fault that breaks its own rule
+    (no tooth needed): the fault type, ``gear`` 1 or 2, face extent, crack depth and
+    angle, spall radius, length and depth, the chipped fraction."""
+    if not isinstance(fault, (RootCrack, Spall, ChippedTooth)):
+        raise CaseError(f"{path} must be a RootCrack, Spall or ChippedTooth (got {fault!r})")
+    if fault.gear not in (1, 2):
+        raise CaseError(f"{path}.gear must be 1 or 2 (got {fault.gear!r})")
+    _require(path, "face_start", fault.face_start, zero=True)
+    if fault.face_width is not None:
+        _require(path, "face_width", fault.face_width)
+    if isinstance(fault, RootCrack):
+        _require(path, "depth", fault.depth)
+        if not (is_finite_number(fault.angle_deg) and 0.0 < fault.angle_deg <= 90.0):
+            raise CaseError(f"{path}.angle_deg must lie in (0, 90] (got {fault.angle_deg!r})")
+    elif isinstance(fault, Spall):
+        for name in ("centre_radius", "length", "depth"):
+            _require(path, name, getattr(fault, name))
+    else:
+        share = fault.missing_fraction
+        if not (is_finite_number(share) and 0.0 < share <= 1.0):
+            raise CaseError(f"{path}.missing_fraction must lie in (0, 1] (got {share!r})")
