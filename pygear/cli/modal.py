@@ -19,7 +19,7 @@ from ..runs.progress import ProgressBar
 if TYPE_CHECKING:
     from ..analysis.modes.modal import ModalResult
 
-__all__ = ["HANDLERS", "add_parsers", "modal_summary"]
+__all__ = ["HANDLERS", "add_parsers"]
 
 _log = logging.getLogger(__name__)
 
@@ -90,21 +90,6 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     sensitivity.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def modal_summary(modal: ModalResult) -> dict:
-    """The numbers ``--json`` prints for a modal analysis
-    (:func:`pygear.analysis.modes.modal.modal_results`)."""
-    return {
-        "case": modal.attrs["case"],
-        "formulation": modal.attrs["formulation"],
-        "dof_set": modal.attrs["dof_set"],
-        "frequencies_hz": [float(f) for f in modal.frequency],
-        "mode_class": [str(c) for c in modal.mode_class],
-        "class_index": [int(i) for i in modal.class_index],
-        "multiplicity": [int(m) for m in modal.multiplicity],
-        "stage": [str(st) for st in modal.stage_name],
-    }
-
-
 def _print_modal_table(modal: ModalResult) -> None:
     print(
         f"{modal.attrs['case']}: {modal.attrs['formulation']} formulation, "
@@ -150,6 +135,8 @@ def _modal(args: argparse.Namespace) -> int:
 
         dataset = modal_dataset(modal)
         write_modal_outputs(case, None, model, dataset, args.out, f"modal_{model.formulation}")
+    from ..runs.scene_runner import modal_summary
+
     summary = {**modal_summary(modal), "wall_s": elapsed}
     if args.compare_stage:
         from ..analysis.modes.modal import stage_comparison

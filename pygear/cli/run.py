@@ -14,16 +14,11 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..errors import CaseError
 from ..model.names import FORMULATIONS, LAWS
 from ..resources import format_bytes
 from ..runs.progress import ProgressBar, progress_wanted
-from .modal import modal_summary
-
-if TYPE_CHECKING:
-    from ..model.case import Case, Scene
 
 __all__ = ["HANDLERS", "add_parsers"]
 
@@ -235,91 +230,53 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..analysis.modes.modal import modal_dataset, modal_results
-    from ..analysis.time.transient import runup_table_text, transient_summary
-    from ..assembly.drivetrain_model import scene_model
-    from ..io import write_netcdf
+    from ..analysis.time.transient import runup_table_text
     from ..model.case import load_case
     from ..runs.json_output import json_text
-    from ..runs.outputs import write_modal_outputs, write_run_signals
     from ..runs.scene_checks import check_scenes
-    from ..runs.transient_outputs import (
-        write_load_figure,
-        write_sensor_figures,
-        write_speed_figure,
-    )
+    from ..runs.scene_runner import RunOptions, run_scene
 
-    figures = not args.no_figures
-
-    case = base_case = load_case(args.case)
+    every = args.checkpoint_every
+    if every is not None and not every > 0:
+        raise CaseError(f"--checkpoint-every must be a positive number of seconds (got {every})")
+    case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
     # before any runs; the result files each transient scene will write at most
-    file_sizes = check_scenes(base_case, scenes, formulation=args.formulation, out=out)
+    file_sizes = check_scenes(case, scenes, formulation=args.formulation, out=out)
     summary: dict = {"case": case.name, "scenes": {}}
     transients: dict = {}
     run_started = time.perf_counter()
     for scene in scenes:
-        started = time.perf_counter()
-        case = base_case.for_scene(scene)
-        model = scene_model(case, scene, formulation=args.formulation)
-        entry: dict = {"formulation": model.formulation, "dof_set": model.dof_set, "files": []}
-        if "modal" in scene.analyses:
-            modal = modal_results(model)
-            files = write_modal_outputs(
-                case, scene, model, modal_dataset(modal), out, scene.name, figures=figures
+        if scene.name in file_sizes and not args.json and progress_wanted():
+            print(
+                f"{scene.name}: result files of at most {format_bytes(file_sizes[scene.name])}"
+                " (counted uncompressed; they are written compressed)",
+                file=sys.stderr,
             )
-            entry.update(modal_summary(modal))
-            entry["files"] += [str(p) for p in files]
-        if "sensitivity" in scene.analyses:
-            from ..analysis.modes.sensitivity import frequency_sensitivity
-
-            sensitivity = frequency_sensitivity(model)
-            path = write_netcdf(
-                sensitivity,
-                out / f"{scene.name}_sensitivity.nc",
-                input_hash=case.input_hash(),
-                title=f"Frequency sensitivities of {case.name}",
-            )
-            entry["files"].append(str(path))
-        if "transient" in scene.analyses:
-            if scene.name in file_sizes and not args.json and progress_wanted():
-                print(
-                    f"{scene.name}: result files of at most {format_bytes(file_sizes[scene.name])}"
-                    " (counted uncompressed; they are written compressed)",
-                    file=sys.stderr,
-                )
-            try:
-                dataset, files = _run_transient(case, scene, model, out, args)
-            except KeyboardInterrupt as interrupt:
-                print(f"pygear run: scene {scene.name}: {interrupt}", file=sys.stderr)
-                return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
-            transients[scene.name] = dataset
-            entry.update(transient_summary(dataset))
-            entry["files"] += [str(p) for p in files]
-            if "signal" in scene.analyses:
-                written = write_run_signals(case, model, dataset, out, scene.name, figures=figures)
-                entry["files"] += [str(p) for p in written]
-            speeds = out / f"{scene.name}_speeds.png"
-            if figures and write_speed_figure(dataset, speeds) is not None:
-                entry["files"].append(str(speeds))  # drawn once every file of the scene is
-            loads = out / f"{scene.name}_loads.png"  # what a whole drivetrain's run is for
-            if (
-                figures
-                and dataset.attrs.get("whole_drivetrain")
-                and write_load_figure(dataset, loads)
-            ):
-                entry["files"].append(str(loads))
-            if figures:
-                entry["files"] += [str(p) for p in write_sensor_figures(dataset, out, scene.name)]
-        entry["wall_s"] = time.perf_counter() - started
+        options = RunOptions(
+            formulation=args.formulation,
+            figures=not args.no_figures,
+            progress=ProgressBar(scene.name, enabled=not args.json),
+            checkpoint_every=every,
+            resume=args.resume,
+        )
+        try:
+            outcome = run_scene(case, scene, out, options)
+        except KeyboardInterrupt as interrupt:
+            print(f"pygear run: scene {scene.name}: {interrupt}", file=sys.stderr)
+            return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
+        entry = outcome.summary
+        if outcome.transient is not None:
+            transients[scene.name] = outcome.transient
         summary["scenes"][scene.name] = entry
         _log.info("scene %s: %.0f ms", scene.name, entry["wall_s"] * 1e3)
         if not args.json:
+            model = outcome.model
             print(f"scene {scene.name}: {model.formulation}, {model.dof_set} ({model.size} DOFs)")
             for path in entry["files"]:
                 print(f"  wrote {path}")
-    if len(transients) > 1 and figures:
+    if len(transients) > 1 and not args.no_figures:
         summary["files"] = [str(_compare_transients(transients, out))]
     summary["wall_s"] = time.perf_counter() - run_started
     if args.json:
@@ -327,29 +284,6 @@ def _run(args: argparse.Namespace) -> int:
     elif transients:
         print(runup_table_text(transients))
     return 0
-
-
-def _run_transient(case: Case, scene: Scene, model, out: Path, args: argparse.Namespace):
-    """One transient scene: run it with a progress bar and write ``<scene>.nc``."""
-    from ..runs.transient_outputs import write_transient
-
-    progress = ProgressBar(f"{scene.name}", enabled=not args.json)
-    checkpoint = out / f"{scene.name}.checkpoint.npz"
-    every = args.checkpoint_every
-    if every is not None and not every > 0:
-        raise CaseError(f"--checkpoint-every must be a positive number of seconds (got {every})")
-    return write_transient(
-        case,
-        scene,
-        out,
-        progress=progress,
-        figure=False,  # the speeds are drawn after the scene's spectra files are written
-        model=model,
-        # resuming keeps the file current: saved again on a signal, removed when done
-        checkpoint=checkpoint if every is not None or args.resume else None,
-        checkpoint_every=every if every is not None else float("inf"),
-        resume=checkpoint if args.resume and checkpoint.is_file() else None,
-    )
 
 
 def _compare_transients(transients: dict, out: Path) -> Path:

@@ -13,28 +13,23 @@ from __future__ import annotations
 import math
 import os
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import pandas as pd
 
-from ..analysis.modes.modal import modal_analysis
-from ..assembly.drivetrain_model import scene_model
-from ..assembly.matrices import Model
 from ..errors import CaseError
-from ..io import atomic_path, write_netcdf
-from ..model.case import Case, Scene, find_case_dir, load_case
-from ..model.case_json import case_json
-from .cluster import task_files
+from ..io import atomic_path
+from ..model.case import find_case_dir, load_case
 from .progress import ProgressBar
 from .scene_checks import check_scenes
+from .scene_runner import SCENE_ANALYSES, RunOptions, run_scene
 
 __all__ = [
-    "SCENE_ANALYSES",
     "SUMMARY_COLUMNS",
     "find_case_dirs",
     "run_batch",
-    "run_scene",
+    "run_scene_task",
 ]
 
 SUMMARY_COLUMNS = (
@@ -55,69 +50,6 @@ SUMMARY_COLUMNS = (
 
 SUMMARY_NAME = "batch_summary.csv"
 """File name of the summary table in the batch's output directory."""
-
-
-def _modal_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
-    from .outputs import write_modal_outputs  # the code path of `pygear run`
-
-    modal = modal_analysis(model)
-    with task_files():
-        files = write_modal_outputs(case, scene, model, modal, out, scene.name, figures=figures)
-    frequencies = modal.frequency.values
-    positive = frequencies[frequencies > 0]
-    return {
-        "files": [str(p) for p in files],
-        "lowest_hz": float(positive.min()) if positive.size else math.nan,
-    }
-
-
-def _sensitivity_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
-    from ..analysis.modes.sensitivity import frequency_sensitivity
-
-    sensitivity = frequency_sensitivity(model)
-    with task_files():
-        path = write_netcdf(
-            sensitivity.assign_attrs(scene=scene.name),
-            out / f"{scene.name}_sensitivity.nc",
-            input_hash=case.input_hash(),
-            title=f"Frequency sensitivities of {case.name}",
-            case_json=case_json(case),
-        )
-    return {"files": [str(path)]}
-
-
-def _transient_outputs(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
-    """The scene's transient as `pygear run` writes it, and its signal analysis: the
-    NetCDF files first, the figures after them."""
-    from ..analysis.time.transient import transient_summary
-    from .outputs import write_run_signals
-    from .transient_outputs import write_sensor_figures, write_speed_figure, write_transient
-
-    with task_files():
-        dataset, files = write_transient(case, scene, out, model=model, figure=False)
-        if "signal" in scene.analyses:
-            signals = write_run_signals(case, model, dataset, out, scene.name, figures=figures)
-            files = [*files, *signals]
-        if figures:
-            speeds = write_speed_figure(dataset, out / f"{scene.name}_speeds.png")
-            files += [speeds] if speeds is not None else []
-            files += write_sensor_figures(dataset, out, scene.name)
-    summary = transient_summary(dataset)
-    return {"files": [str(p) for p in files], "t_s": summary.get("t_s", math.nan)}
-
-
-def _after_transient(case: Case, scene: Scene, model: Model, out: Path, figures: bool) -> dict:
-    return {}  # 'signal' runs inside the transient's task, on its dataset
-
-
-SCENE_ANALYSES: dict[str, Callable[[Case, Scene, Model, Path, bool], dict]] = {
-    "modal": _modal_outputs,
-    "sensitivity": _sensitivity_outputs,
-    "transient": _transient_outputs,
-    "signal": _after_transient,
-}
-"""What a batch writes for each analysis a scene may ask for (the last argument:
-whether to draw figures)."""
 
 
 def find_case_dirs(paths: Iterable[str | os.PathLike]) -> list[Path]:
@@ -159,9 +91,9 @@ def find_case_dirs(paths: Iterable[str | os.PathLike]) -> list[Path]:
     return unique
 
 
-def run_scene(case_dir: str, scene_name: str, out_dir: str, figures: bool = True) -> dict:
-    """Run one scene of one case and write its outputs (figures too, with ``figures``);
-    never raises (a Dask task).
+def run_scene_task(case_dir: str, scene_name: str, out_dir: str, figures: bool = True) -> dict:
+    """Run one scene of one case as ``pygear run`` does (:func:`.scene_runner.run_scene`)
+    and return its row; never raises (a Dask task).
 
     Returns
     -------
@@ -174,16 +106,19 @@ def run_scene(case_dir: str, scene_name: str, out_dir: str, figures: bool = True
         case = load_case(case_dir)
         scene = case.scene(scene_name)
         check_scenes(case, [scene], out=out_dir)  # probe targets, memory, disk: before any work
-        case = case.for_scene(scene)  # its parameter changes, as `pygear run` applies them
         row["analyses"] = ",".join(scene.analyses)
-        model = scene_model(case, scene)
-        row.update(formulation=model.formulation, dof_set=model.dof_set, dofs=model.size)
-        unsupported = [a for a in scene.analyses if a not in SCENE_ANALYSES]
-        for analysis in scene.analyses:
-            if analysis in SCENE_ANALYSES:
-                result = SCENE_ANALYSES[analysis](case, scene, model, Path(out_dir), figures)
-                row["files"] = row["files"] + result.pop("files", [])
-                row.update(result)
+        outcome = run_scene(case, scene, out_dir, RunOptions(figures=figures))
+        summary = outcome.summary
+        frequencies = [f for f in summary.get("frequencies_hz", []) if f > 0]
+        row.update(
+            formulation=summary["formulation"],
+            dof_set=summary["dof_set"],
+            dofs=summary["dofs"],
+            files=summary["files"],
+            lowest_hz=min(frequencies) if frequencies else math.nan,
+            t_s=summary["t_s"] if summary.get("t_s") is not None else math.nan,
+        )
+        unsupported = summary.get("unsupported", [])
         if unsupported:
             row["status"] = "unsupported"
             row["error"] = (
@@ -257,7 +192,7 @@ def run_batch(
         with dask_client(workers=workers, scheduler=scheduler) as client:
             from distributed import as_completed
 
-            futures = client.map(run_scene, *zip(*tasks), figures=figures, pure=False)
+            futures = client.map(run_scene_task, *zip(*tasks), figures=figures, pure=False)
             owner = {future.key: task for future, task in zip(futures, tasks)}
             for done, future in enumerate(as_completed(futures, loop=client.loop), start=1):
                 try:

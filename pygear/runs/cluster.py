@@ -51,9 +51,8 @@ def task_files() -> Iterator[None]:
     file); a task's files are its own, so a lock of the process is enough.
     """
     with FILE_LOCK:
-        try:
-            import dask
-        except ImportError:
+        dask = sys.modules.get("dask")  # loaded in every worker; a plain run never loads it
+        if dask is None:
             yield
             return
         with dask.config.set(scheduler="synchronous"):
