@@ -13,7 +13,17 @@ from pathlib import Path
 from ..errors import CaseError
 from ..runs.progress import progress_wanted
 
-__all__ = ["HANDLERS", "add_parsers", "analyze_tsa", "damaged_teeth"]
+__all__ = ["HANDLERS", "TSA_AFTER", "add_parsers", "analyze_tsa", "damaged_teeth"]
+
+TSA_AFTER = 0.5
+"""``--after`` of ``--tsa`` when the run has no settling instant ``t_s`` (at most half
+the run): the start-up a steady run sheds before its average."""
+
+TSA_NEEDS = (
+    "--tsa needs a transient's result with a sensor channel and the gears' angles "
+    "(`pygear run` of a scene with a sensor probe and theta_z displacement probes)"
+)
+"""What ``--tsa`` asks of RUN.nc (ends the message of a file of another kind)."""
 
 
 def add_parsers(commands: argparse._SubParsersAction) -> None:
@@ -92,37 +102,38 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     """Handler of ``pygear analyze RUN.nc --tsa GEAR [--indicators] [--json]``."""
     import xarray as xr
 
-    from ..analysis.condition.gear_average import gear_average, gear_indicator_values
+    from ..analysis.condition.gear_average import (
+        check_tsa_sampling,
+        gear_average,
+        gear_indicator_values,
+    )
     from ..analysis.condition.spectral_kurtosis import fast_kurtogram
     from ..analysis.signals.channels import channel_series, run_channels
-    from ..io import index_labels, write_netcdf
+    from ..analysis.signals.record_checks import check_record_time, default_after
+    from ..io import write_netcdf
     from ..runs.json_output import json_text
+    from ..runs.outputs import read_run_file
 
-    if not args.run.is_file():
-        raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
-    try:
-        with xr.open_dataset(args.run, decode_times=False) as opened:
-            run = index_labels(opened.load())  # labels as indexes, time in s
-    except (OSError, ValueError) as error:
-        raise CaseError(f"RUN.nc {str(args.run)!r} is not a NetCDF file ({error})") from None
-    sensors = [
-        n for n, (v, _, _) in run_channels(run).items() if run[v].attrs.get("quantity") == "sensor"
-    ]
-    channel = args.channel or next(iter(sensors), None)
-    if channel is None:
-        raise CaseError(f"RUN.nc {str(args.run)!r} holds no sensor channel for --tsa")
-    after = 0.5 if args.after is None else args.after
-    if not 0 <= after < float(run.time[-1]):
-        raise CaseError(
-            f"--after {after!r} s must lie within the run (0 .. {float(run.time[-1]):g} s)"
-        )
-    late = run.sel(time=slice(after, None))
     if args.tachometer is not None and args.tachometer < 1:
         raise CaseError(
             f"--tachometer must be a whole number of pulses >= 1 (got {args.tachometer})"
         )
     if not args.jitter >= 0:
         raise CaseError(f"--jitter must be a time >= 0 s (got {args.jitter!r})")
+    run = read_run_file(args.run, TSA_NEEDS)
+    source = f"RUN.nc {str(args.run)!r}"
+    sensors = [
+        n for n, (v, _, _) in run_channels(run).items() if run[v].attrs.get("quantity") == "sensor"
+    ]
+    channel = args.channel or next(iter(sensors), None)
+    if channel is None:
+        raise CaseError(f"{source} holds no sensor channel: {TSA_NEEDS}")
+    after = default_after(run, TSA_AFTER) if args.after is None else args.after
+    # the checks every analyze path makes: the record from --after is uniform in time
+    check_record_time(run, source, after)
+    late = run.sel(time=slice(after, None))
+    # and the mesh, with its first sideband, lies below the record's Nyquist frequency
+    check_tsa_sampling(late, args.tsa, channel, source)
     average = gear_average(late, args.tsa, channel, tachometer=args.tachometer, jitter=args.jitter)
     gear = average.attrs["gear"]
     stem = args.out or args.run.with_name(f"{args.run.stem}_tsa_{gear.replace('.', '_')}")
@@ -137,7 +148,7 @@ def analyze_tsa(args: argparse.Namespace) -> int:
     if args.indicators:
         indicators = gear_indicator_values(average)
         summary["indicators"] = indicators
-        rate = 1.0 / float(run.time[1] - run.time[0])
+        rate = (late.sizes["time"] - 1) / float(late.time[-1] - late.time[0])  # uniform
         kurtogram = fast_kurtogram(channel_series(late, channel).values, rate)
         best = kurtogram[1]
         summary["kurtogram"] = {

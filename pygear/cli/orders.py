@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import CaseError
-
 __all__ = ["ORDERS_AFTER_DEFAULT", "analyze_orders"]
 
 ORDERS_AFTER_DEFAULT = 0.0
@@ -19,36 +17,31 @@ ORDERS_AFTER_DEFAULT = 0.0
 begins where the reference reaches a tenth of its top speed)."""
 
 
-def _read_run(path) -> object:
-    import xarray as xr
-
-    from ..io import index_labels
-
-    try:
-        with xr.open_dataset(path, decode_times=False) as opened:
-            return index_labels(opened.load())  # labels as indexes, time in s
-    except (OSError, ValueError) as error:
-        raise CaseError(
-            f"RUN.nc {str(path)!r} is not a NetCDF file pygear can read ({error})"
-        ) from None
+NEEDS = (
+    "--orders needs a transient's result with the member's angle or speed over time "
+    "(`pygear run` of a scene with a 'transient' analysis)"
+)
+"""What ``--orders`` asks of RUN.nc (ends the message of a file of another kind)."""
 
 
 def analyze_orders(args: argparse.Namespace) -> int:
     """Handler of ``pygear analyze --orders``; returns the exit code."""
     from ..analysis.signals.order_plan import plan_order_tracking
     from ..analysis.signals.order_tracking import order_summary
+    from ..analysis.signals.record_checks import check_record_time
     from ..runs.json_output import json_text
     from ..runs.order_outputs import order_directory, write_order_tracking
+    from ..runs.outputs import read_run_file
 
-    if not args.run.is_file():
-        raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     directory = order_directory(args.run, args.out)
-    run = _read_run(args.run)
+    run = read_run_file(args.run, NEEDS)
+    after = ORDERS_AFTER_DEFAULT if args.after is None else args.after
+    check_record_time(run, f"RUN.nc {str(args.run)!r}", after)  # as every analyze path
     plan = plan_order_tracking(
         run,
         args.orders,
         args.channel,
-        after=ORDERS_AFTER_DEFAULT if args.after is None else args.after,
+        after=after,
         max_order=args.max_order,
         window_revolutions=args.window_revolutions,
     )

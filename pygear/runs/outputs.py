@@ -24,7 +24,9 @@ __all__ = [
     "stored_references",
     "write_run_signals",
     "acceleration_channels",
+    "file_kind",
     "mesh_frequency",
+    "read_run_file",
     "write_modal_outputs",
     "write_signal_analysis",
 ]
@@ -181,6 +183,90 @@ def analysis_references(case: Case, model, run: xr.Dataset) -> xr.Dataset:
             ),
         },
     )
+
+
+FILE_KINDS = (
+    ("Transient ", None),
+    (
+        "Modal analysis of",
+        "a modal analysis (natural frequencies and mode shapes) written "
+        "by `pygear run` for a modal scene",
+    ),
+    (
+        "Natural frequencies of",
+        "a parameter study of natural frequencies written by `pygear modal`",
+    ),
+    ("Campbell diagram of", "a Campbell diagram written by `pygear campbell`"),
+    ("Time-varying mesh stiffness of", "a mesh stiffness written by `pygear mesh-stiffness`"),
+    ("Frequency sensitivities of", "frequency sensitivities written by `pygear run`"),
+    ("Fault dataset of", "a fault dataset (indicators per record) written by `pygear dataset`"),
+    ("Fault record", "one fault record (indicators of one run) written by `pygear dataset`"),
+    ("Sweep", "a parameter sweep written by `pygear sweep`"),
+    ("Accuracy and cost of", "an accuracy study written by `pygear accuracy`"),
+    ("Spectra of", "spectra written by `pygear analyze`"),
+    ("Order tracking of", "an order tracking written by `pygear analyze --orders`"),
+    ("Synchronous average of", "a synchronous average written by `pygear analyze --tsa`"),
+)
+"""``(title prefix, what the file is)`` of the files pygear writes (their ``title``
+attribute); None for a transient's run, the file ``pygear analyze`` reads."""
+
+
+def file_kind(dataset: xr.Dataset) -> str | None:
+    """What wrote ``dataset``, from its ``title``, when it is a pygear file other than a
+    run; None for a run or a file of unknown origin."""
+    title = str(dataset.attrs.get("title", ""))
+    for prefix, kind in FILE_KINDS:
+        if title.startswith(prefix):
+            return kind
+    return None
+
+
+def _first_line(error: BaseException) -> str:
+    text = " ".join(str(error).split())
+    text = text if len(text) <= 160 else text[:157] + "..."
+    return f"{type(error).__name__}: {text}" if text else type(error).__name__
+
+
+def read_run_file(path: str | Path, needs: str) -> xr.Dataset:
+    """A run file, read as data (labels as indexes, time in s), checked before any work.
+
+    ``needs`` says what the analysis asks of the file (ends the message of a file of
+    another kind).  A file that does not exist, is empty, is no NetCDF (text, random or
+    damaged bytes), was written by another command (its ``title``), or holds no samples
+    over time raises :class:`~pygear.errors.CaseError` naming it and what is wrong.  The
+    file is read by xarray's netCDF4 engine: nothing in it is executed.
+    """
+    from ..analysis.signals.channels import run_channels
+    from ..errors import CaseError
+    from ..io import index_labels
+
+    path = Path(path)
+    name = f"RUN.nc {str(path)!r}"
+    if not path.exists():
+        raise CaseError(f"{name} does not exist")
+    if not path.is_file():
+        raise CaseError(f"{name} is not a file")
+    if path.stat().st_size == 0:
+        raise CaseError(f"{name} is empty (0 bytes), not a NetCDF file")
+    try:
+        with xr.open_dataset(path, engine="netcdf4", decode_times=False) as opened:
+            run = index_labels(opened.load())  # labels as indexes, time in s
+    except Exception as error:  # noqa: BLE001 - any damage reads as one message
+        raise CaseError(f"{name} cannot be read as NetCDF ({_first_line(error)})") from None
+    kind = file_kind(run)
+    if kind is not None:
+        raise CaseError(f"{name} is {kind}, not a run: {needs}")
+    if "time" not in run.dims:
+        raise CaseError(f"{name} holds no series over time: {needs}")
+    if run.sizes["time"] == 0:
+        raise CaseError(f"{name} holds no samples (its time dimension is empty): {needs}")
+    try:
+        channels = run_channels(run)
+    except Exception as error:  # noqa: BLE001 - a damaged layout, not a pygear bug
+        raise CaseError(f"{name} has channels pygear cannot read ({_first_line(error)})") from None
+    if not channels:
+        raise CaseError(f"{name} holds no channel over time: {needs}")
+    return run
 
 
 def stored_references(run: xr.Dataset, source: str | Path = "RUN.nc"):

@@ -39,7 +39,13 @@ from .synchronous_average import (
     time_synchronous_average,
 )
 
-__all__ = ["gear_average", "gear_indicator_values", "member_angle", "parse_gear"]
+__all__ = [
+    "check_tsa_sampling",
+    "gear_average",
+    "gear_indicator_values",
+    "member_angle",
+    "parse_gear",
+]
 
 
 def member_angle(run: xr.Dataset, stage: str, member: str) -> xr.DataArray | None:
@@ -120,6 +126,51 @@ def _tachometer_angles(
         if values is not None
     }
     return run, arrays
+
+
+def check_tsa_sampling(run: xr.Dataset, gear: str, channel: str, source: str) -> float:
+    """Refuse an average whose mesh frequency the run's samples do not resolve; return
+    the highest frequency the average needs [Hz].
+
+    The sensor's stage meshes at Z_r |omega_c| / 2 pi with its ring held (what the
+    averages assume), highest where the carrier turns fastest in the record (or at the
+    mesh frequency the file stores, if higher).  The gear's indicators separate the mesh
+    harmonic from its first sidebands, one order of the gear above it: that frequency,
+    mesh x (1 + 1 / Z), must lie below the Nyquist frequency of the record, or the
+    average and every indicator are made of aliases.
+
+    Raises
+    ------
+    CaseError
+        Naming ``--tsa``, the frequencies and the sample rate the run would need.
+    """
+    attrs = _sensor_attributes(run, channel)
+    stage = str(attrs["sensor_stage"])
+    positions = np.atleast_1d(attrs["sensor_planet_angles_deg"])
+    member = parse_gear(gear, stage, len(positions))
+    sun, planet, ring = (int(t) for t in np.atleast_1d(attrs["sensor_teeth_sun_planet_ring"]))
+    teeth = {"sun": sun, "ring": ring}.get(member, planet)
+    carrier = _angle(run, stage, "carrier", f"{stage}.{member}")
+    time = np.asarray(carrier["time"].values, dtype=float)
+    if time.size < 2 or teeth < 1:
+        return 0.0
+    rate = (time.size - 1) / float(time[-1] - time[0])
+    speed = float(np.max(np.abs(np.gradient(np.asarray(carrier.values, float), time))))
+    mesh = ring * speed / (2 * math.pi)
+    if "mesh_frequency" in run and "mesh_stage" in run.coords:
+        stored = run["mesh_frequency"].where(run["mesh_stage"] == stage, drop=True)
+        if stored.size:
+            mesh = max(mesh, float(np.nanmax(stored.values)))
+    needed = mesh * (1 + 1 / teeth)
+    if not needed < rate / 2:
+        raise CaseError(
+            f"--tsa {gear}: the mesh frequency of {stage} reaches {mesh:.6g} Hz and the "
+            f"average of the {member} ({teeth} teeth) needs {needed:.6g} Hz with its first "
+            f"sideband, not below the Nyquist frequency {rate / 2:.6g} Hz of {source} "
+            f"(sample rate {rate:.6g} Hz): it would average aliases; rerun the scene "
+            f"sampled above {2 * needed:.6g} Hz"
+        )
+    return needed
 
 
 def gear_average(
