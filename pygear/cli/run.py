@@ -66,12 +66,15 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--band",
         nargs=2,
         type=float,
-        default=(5000.0, 10000.0),
         metavar=("LOW", "HIGH"),
-        help="DRA band [Hz] (default 5000 10000)",
+        help="DRA band [Hz] (default: a quarter to a half of the file's Nyquist frequency, "
+        "5000 10000 at 40 kHz)",
     )
     analyze.add_argument(
-        "--after", type=float, help="skip the start-up [s] (default 1; 0 with --orders)"
+        "--after",
+        type=float,
+        help="skip the start-up [s] (default: 1 s, 0.5 s with --tsa, at most half the run "
+        "and never before its settling instant t_s; 0 with --orders)",
     )
     analyze.add_argument("--mesh-frequency", type=float, help="mesh frequency [Hz] for labels")
     analyze.add_argument(
@@ -142,14 +145,19 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 
 
 def _analyze(args: argparse.Namespace) -> int:
-    import xarray as xr
-
     from ..analysis.signals.analyze import pick_channel
     from ..analysis.signals.channels import channel_file_part
     from ..analysis.signals.peaks import peak_table_text
-    from ..io import index_labels
+    from ..analysis.signals.record_checks import (
+        check_band,
+        check_record_time,
+        default_after,
+        default_band,
+        record_sample_rate,
+    )
+    from ..model.case import SIGNAL_AFTER
     from ..runs.json_output import json_text
-    from ..runs.outputs import stored_references, write_signal_analysis
+    from ..runs.outputs import read_run_file, stored_references, write_signal_analysis
 
     if args.orders is not None:
         from .orders import analyze_orders
@@ -161,15 +169,23 @@ def _analyze(args: argparse.Namespace) -> int:
         return analyze_tsa(args)
     if args.indicators:
         raise CaseError("--indicators: name the gear to average with --tsa GEAR")
-    if not args.run.is_file():
-        raise CaseError(f"RUN.nc {str(args.run)!r} does not exist")
     if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):
         raise CaseError(
             f"--out {str(args.out)!r} is an output stem: STEM_<channel>.nc and .png are "
             f"written (drop the {args.out.suffix})"
         )
-    with xr.open_dataset(args.run, decode_times=False) as opened:
-        run = index_labels(opened.load())  # labels as indexes, time in s
+    run = read_run_file(
+        args.run,
+        "analyze needs a transient's result with series over time "
+        "(`pygear run` of a scene with a 'transient' analysis)",
+    )
+    source = f"RUN.nc {str(args.run)!r}"
+    # defaults follow the file: its settling instant, its Nyquist frequency
+    after = default_after(run, SIGNAL_AFTER) if args.after is None else args.after
+    kept = check_record_time(run, source, after)
+    rate = record_sample_rate(kept)
+    band = default_band(rate) if args.band is None else tuple(args.band)
+    check_band(band, rate, kept.size, source)
     # the run file carries its own frequencies: nothing is loaded from the case it names
     natural, stored_mesh_frequency = stored_references(run, args.run)
     stem = args.out or args.run.with_name(args.run.stem)
@@ -181,8 +197,8 @@ def _analyze(args: argparse.Namespace) -> int:
         run,
         stem,
         channel=channel,
-        band=args.band,
-        after=1.0 if args.after is None else args.after,  # the start-up skipped
+        band=band,
+        after=after,
         natural=natural,
         mesh_frequency=args.mesh_frequency or stored_mesh_frequency,
     )
