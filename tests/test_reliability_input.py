@@ -15,6 +15,7 @@ import json
 import math
 import re
 import textwrap
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +29,7 @@ from pygear.cli import main
 from pygear.kernel.newmark import TransientError
 from pygear.model.case import replace_parameter
 from pygear.model.components import Gear
+from pygear.model.plausibility import PlausibilityWarning
 
 ROOT = Path(__file__).resolve().parent.parent
 STUDY = ROOT / "cases" / "yang2016_planetary"
@@ -478,3 +480,47 @@ def test_fault_the_kernel_refuses_is_named_by_its_own_parameter(spall, named):
     with pytest.raises(CaseError, match=named) as error:
         mesh_stiffness(pair, bodies, fault=Spall(1, *spall))
     assert not re.search(r"fault\.[abc]\b", str(error.value))
+
+
+# --- 8. planet assembly (issue #27.21) ----------------------------------------------------------
+# Z_s + Z_r = 27 + 96 = 123 for the study case: a planet assembles at whole multiples of
+# 360/123 = 2.926829 deg from the first (sun and ring teeth both engage).
+
+
+def _stage_with(study_case, **change):
+    stage = dataclasses.replace(study_case.gearbox.stages[0], **change)
+    return stage
+
+
+def test_typed_equal_angles_that_cannot_assemble_name_the_angles_and_the_nearest(study_case):
+    # 123/4 is not whole; 90 deg is 30.75 steps: the nearest assemblable angles are 31, 62
+    # and 92 steps: 90.7317, 181.463, 269.268 deg
+    stage = _stage_with(study_case, planets=4, planet_angles_deg=(0.0, 90.0, 180.0, 270.0))
+    with pytest.raises(CaseError) as error:
+        stage.validate()
+    message = str(error.value)
+    assert message.startswith("planetary.planet_angles_deg: 4 equally spaced planets")
+    assert "(0, 90.7317, 181.463, 269.268) deg" in message
+    assert "give planet_angles_deg" not in message  # they were given
+
+
+def test_planet_count_without_angles_still_suggests_angles(study_case):
+    with pytest.raises(CaseError, match=r"^planetary\.planets: .*give planet_angles_deg, e\.g\. "
+                       r"the nearest that assemble: \(0, 90\.7317"):  # fmt: skip
+        _stage_with(study_case, planets=4).validate()
+
+
+def test_angles_that_cannot_assemble_warn_with_the_nearest_that_do(study_case):
+    # 110 deg is 37.58 steps (0.42 of a tooth pitch off): nearest 38 steps = 111.22 deg
+    stage = _stage_with(study_case, planet_angles_deg=(0.0, 110.0, 240.0))
+    with pytest.warns(PlausibilityWarning, match=r"planet 2 at 110\.0 deg cannot be assembled"
+                      r".*\(0, 111\.22, 240\) deg"):  # fmt: skip
+        stage.validate()
+
+
+def test_small_planet_position_error_is_a_study_not_a_warning(study_case):
+    # the study case's scene puts planet 2 at 120.1 deg: 0.034 of a pitch off, a
+    # deliberate carrier pin-hole error within ASSEMBLY_TOLERANCE
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        _stage_with(study_case, planet_angles_deg=(0.0, 120.1, 240.0)).validate()

@@ -4,6 +4,7 @@ validation (geometry, planet spacing and assembly, contact) beside its fields.""
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 from ..errors import CaseError
@@ -21,8 +22,16 @@ from .component_rules import (
 )
 from .geometry_inputs import check_planetary_geometry, fill_planetary_stage
 from .meshes import Mesh
+from .plausibility import PlausibilityWarning
 
-__all__ = ["PlanetaryStage"]
+__all__ = ["ASSEMBLY_TOLERANCE", "PlanetaryStage"]
+
+ASSEMBLY_TOLERANCE = 0.05
+"""How far (Z_s + Z_r) psi / 360 deg may stray from a whole number for a planet at psi
+(relative to the first) [tooth pitches] before validation warns that the planet cannot
+be assembled.  A planet within 5 % of a pitch of an assemblable angle is taken as a
+position error on purpose (a carrier pin-hole study: the study case's 120.1 deg is 0.034
+of a pitch off); beyond, the teeth of sun, planet and ring cannot all engage at once."""
 
 _finite = is_finite_number
 
@@ -267,16 +276,54 @@ class PlanetaryStage:
 
     def _validate_teeth(self, path: str) -> None:
         require_matching_teeth(path, {"sun": self.sun, "planet": self.planet, "ring": self.ring})
-        teeth = (self.sun.teeth, self.ring.teeth)
-        if None in teeth or not self.equally_spaced:
+        if self.sun.teeth is None or self.ring.teeth is None:
             return
-        if (self.sun.teeth + self.ring.teeth) % self.planets:
-            raise CaseError(
-                f"{path}.planets: {self.planets} equally spaced planets cannot be assembled with "
-                f"sun.teeth = {self.sun.teeth} and ring.teeth = {self.ring.teeth}: "
-                f"(Z_s + Z_r)/N must be a whole number (got {self.sun.teeth + self.ring.teeth}"
-                f"/{self.planets}); give planet_angles_deg or other tooth numbers"
+        total = self.sun.teeth + self.ring.teeth
+        if self.equally_spaced and total % self.planets:
+            typed = self.planet_angles_deg is not None
+            nearest = ", ".join(f"{a:.6g}" for a in self.assemblable_angles_deg())
+            remedy = (
+                f"the nearest angles that assemble are ({nearest}) deg"
+                if typed
+                else f"give planet_angles_deg, e.g. the nearest that assemble: ({nearest}) deg"
             )
+            raise CaseError(
+                f"{path}.{'planet_angles_deg' if typed else 'planets'}: {self.planets} equally "
+                f"spaced planets cannot be assembled with sun.teeth = {self.sun.teeth} and "
+                f"ring.teeth = {self.ring.teeth}: (Z_s + Z_r)/N must be a whole number (got "
+                f"{total}/{self.planets}); {remedy}, or other tooth numbers"
+            )
+        if self.planet_angles_deg is None:
+            return
+        first = self.planet_angles_deg[0]
+        off = [
+            ((a - first) * total / 360.0 - round((a - first) * total / 360.0))
+            for a in self.planet_angles_deg
+        ]
+        worst = max(range(len(off)), key=lambda n: abs(off[n]))
+        if abs(off[worst]) > ASSEMBLY_TOLERANCE:
+            nearest = ", ".join(f"{a:.6g}" for a in self.assemblable_angles_deg())
+            warnings.warn(
+                f"{path}.planet_angles_deg: planet {worst + 1} at "
+                f"{self.planet_angles_deg[worst]!r} deg cannot be assembled with sun.teeth = "
+                f"{self.sun.teeth} and ring.teeth = {self.ring.teeth}: (Z_s + Z_r) psi / 360 deg "
+                f"must be a whole number (is {off[worst]:+.3f} tooth pitches off one); the "
+                f"nearest angles that assemble are ({nearest}) deg",
+                PlausibilityWarning,
+                stacklevel=4,
+            )
+
+    def assemblable_angles_deg(self) -> tuple[float, ...]:
+        """The planet angles nearest to this stage's that assemble [deg]: the first planet
+        where it is, each other at a whole number of 360/(Z_s + Z_r) degrees from it
+        (equal spacing when no angles are given).  Needs both tooth numbers."""
+        total = self.sun.teeth + self.ring.teeth
+        step = 360.0 / total
+        angles = self.planet_angles_deg
+        if angles is None:
+            angles = tuple(360.0 * n / self.planets for n in range(self.planets))
+        first = angles[0]
+        return tuple(first + step * round((a - first) / step) for a in angles)
 
     def _validate_contact(self, path: str) -> None:
         if self.spur:
