@@ -277,14 +277,16 @@ def response_system(
         force = force - drive * (w_in @ phi) / (w_out @ phi) * w_out
     mass_phi = model.mass @ phi
     force = force - mass_phi * (phi @ force) / (phi @ mass_phi)  # round-off of the balance
-    force = force + _pin_forces(model, pin_errors or {})
     psi = vectors[:, ~rigid]
     eigenvalues = values[~rigid]
     deflection = np.array([m.deflection for m in model.meshes])
     rows = deflection @ psi
     damping = psi.T @ model.damping @ psi
+    # the loaded flank is the one the torque presses: a pin error that pulls a mesh
+    # the other way shows as a negative force (separation), not as a flank change
     static = rows @ ((psi.T @ force) / eigenvalues)
     sign = np.where(static < 0, -1, 1).astype(np.int64)
+    force = force + _pin_forces(model, pin_errors or {})
 
     table = build_contact_table(
         case, model, scene, direction=1, sun_driven=".sun." not in input_label
