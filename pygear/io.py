@@ -437,7 +437,7 @@ def open_mfdataset(paths, **options) -> xr.Dataset:
         options.setdefault(key, value)
     stacked = xr.open_mfdataset(paths, **options)
     result = _with_coordinates(stacked)
-    result.set_close(stacked._close)  # closing the result closes the files
+    result.set_close(stacked.close)  # closing the result closes the files
     return result
 
 
