@@ -121,6 +121,16 @@ def test_engine_pygear_is_registered_for_xarray(tmp_path):
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     backends = project["entry-points"]["xarray.backends"]
     assert backends == {"pygear": "pygear.io:PygearBackendEntrypoint"}
+    # what xarray does with the declared entry point once installed: load it and check
+    # the class's parameters
+    from xarray.backends.plugins import backends_dict_from_pkg, set_missing_parameters
+
+    declared = importlib.metadata.EntryPoint(
+        name="pygear", value=backends["pygear"], group="xarray.backends"
+    )
+    engines = backends_dict_from_pkg([declared])
+    set_missing_parameters(engines)
+    assert "decode_times" in engines["pygear"].open_dataset_parameters
     installed = importlib.metadata.entry_points(group="xarray.backends")
     if "pygear" not in installed.names:
         pytest.skip("the installed metadata predates the entry point: reinstall pygear")
