@@ -1,0 +1,205 @@
+"""``pygear response``: the periodic steady state over a speed range (dynamic factors,
+load sharing, stability) by harmonic balance.
+
+The handler checks every option before it loads the analysis, and imports its work when
+called, so ``pygear --help`` loads none of it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+from ..errors import CaseError
+
+__all__ = ["HANDLERS", "add_parsers", "parse_harmonics", "parse_pin_errors", "parse_speeds"]
+
+MAX_COUNT = 100_000
+"""Most speeds one sweep computes."""
+
+MAX_HARMONICS = 1024
+"""Largest harmonic count --harmonics takes."""
+
+
+def add_parsers(commands: argparse._SubParsersAction) -> None:
+    """Add the ``response`` subcommand."""
+    response = commands.add_parser(
+        "response",
+        help="periodic steady state over speed: dynamic factor, load sharing, stability",
+    )
+    response.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
+    response.add_argument(
+        "--scene", help="scene whose parameters, model choices and input/output members apply"
+    )
+    response.add_argument(
+        "--speeds",
+        required=True,
+        metavar="START:STOP:COUNT",
+        help="input member speeds [rpm]: COUNT equally spaced from START to STOP, START > 0",
+    )
+    response.add_argument(
+        "--harmonics",
+        default="auto",
+        help="harmonics of the mesh frequency balanced: auto (chosen per speed by "
+        "--tolerance) or a whole number (default auto)",
+    )
+    response.add_argument(
+        "--tolerance",
+        default="1e-3",
+        help="residual the automatic harmonic count reaches (default 1e-3)",
+    )
+    response.add_argument(
+        "--pin-error",
+        action="append",
+        default=[],
+        metavar="PLANET=METRES",
+        help="tangential pin position error of a planet, e.g. planetary.planet1=10e-6 (repeatable)",
+    )
+    response.add_argument(
+        "--no-stability", action="store_true", help="skip the Floquet multipliers"
+    )
+    response.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    response.add_argument(
+        "--out", type=Path, help="directory of response.nc and its figures (default out/<case>)"
+    )
+    response.add_argument("--no-figures", action="store_true", help="write the dataset only")
+
+
+def parse_speeds(text: str) -> tuple[float, float, int]:
+    """``START:STOP:COUNT`` as (start, stop, count): 0 < START <= STOP, a whole COUNT >= 1
+    (START = STOP when COUNT is 1)."""
+    parts = str(text).split(":")
+    rule = "--speeds must read START:STOP:COUNT (rpm, 0 < START <= STOP, a whole COUNT >= 1)"
+    if len(parts) != 3:
+        raise CaseError(f"{rule} (got {text!r})")
+    try:
+        start, stop, count_value = (float(p) for p in parts)
+    except ValueError:
+        raise CaseError(f"{rule} (got {text!r})") from None
+    if not (math.isfinite(start) and math.isfinite(stop) and 0 < start <= stop):
+        raise CaseError(f"--speeds START and STOP must be finite with 0 < START <= STOP "
+                        f"(got {text!r})")  # fmt: skip
+    if not (math.isfinite(count_value) and count_value == int(count_value) and count_value >= 1):
+        raise CaseError(f"--speeds COUNT must be a whole number >= 1 (got {parts[2]!r})")
+    count = int(count_value)
+    if count > MAX_COUNT:
+        raise CaseError(f"--speeds COUNT may be at most {MAX_COUNT} (got {count})")
+    if count == 1 and start != stop:
+        raise CaseError(f"--speeds COUNT 1 needs START = STOP (got {text!r})")
+    if count > 1 and start == stop:
+        raise CaseError(f"--speeds START must be below STOP for COUNT > 1 (got {text!r})")
+    return start, stop, count
+
+
+def parse_harmonics(text: str) -> int | str:
+    """``auto`` or a whole number 0..:data:`MAX_HARMONICS`."""
+    if str(text).strip().lower() == "auto":
+        return "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value == int(value) and 0 <= value <= MAX_HARMONICS):
+        raise CaseError(
+            f"--harmonics must be auto or a whole number from 0 to {MAX_HARMONICS} (got {text!r})"
+        )
+    return int(value)
+
+
+def _tolerance(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise CaseError(f"--tolerance must be a number between 0 and 1 (got {text!r})")
+    return value
+
+
+def parse_pin_errors(items: list[str]) -> dict[str, float]:
+    """``PLANET=METRES`` items as a dict."""
+    errors: dict[str, float] = {}
+    for item in items:
+        name, sep, value = str(item).partition("=")
+        try:
+            metres = float(value)
+        except ValueError:
+            metres = math.nan
+        if not (sep and name and math.isfinite(metres)):
+            raise CaseError(
+                f"--pin-error must read PLANET=METRES, e.g. planetary.planet1=10e-6 (got {item!r})"
+            )
+        errors[name] = metres
+    return errors
+
+
+def _print_table(response, summary: dict) -> None:
+    attrs = response.attrs
+    speeds = response.speed.values
+    print(
+        f"{attrs['case']}: {attrs['formulation']} formulation, {attrs['dof_set']} DOF set, "
+        f"{attrs['input']} {speeds[0]:g} to {speeds[-1]:g} rpm ({speeds.size} speeds), "
+        f"{attrs['wall_s']:.2f} s"
+    )
+    print(f"{'mesh':<28} {'max K_v':>8} {'at rpm':>10} {'max DTE rms [m]':>16}  separation")
+    for i, mesh in enumerate(response.mesh.values):
+        kv = response.dynamic_factor.values[:, i]
+        k = int(kv.argmax())
+        separated = speeds[response.separation.values[:, i] > 0]
+        where = f"from {separated[0]:g} rpm" if separated.size else "none"
+        print(f"{str(mesh):<28} {kv[k]:>8.3f} {speeds[k]:>10.1f} "
+              f"{response.dte_rms.values[:, i].max():>16.3e}  {where}")  # fmt: skip
+    for stage, values in summary["load_sharing"].items():
+        print(f"K_gamma {stage}: {min(values):.4f} to {max(values):.4f}")
+    if "stable" in response:
+        unstable = speeds[response.stable.values == 0]
+        print(f"unstable at {unstable.size} speeds" + (
+            f" ({unstable[0]:g} to {unstable[-1]:g} rpm)" if unstable.size else ""))  # fmt: skip
+    print(f"harmonics {min(summary['harmonics'])} to {max(summary['harmonics'])}, "
+          f"largest residual {max(summary['residual']):.2e}")  # fmt: skip
+
+
+def _response(args: argparse.Namespace) -> int:
+    start, stop, count = parse_speeds(args.speeds)
+    harmonics = parse_harmonics(args.harmonics)
+    tolerance = _tolerance(args.tolerance)
+    pin_errors = parse_pin_errors(args.pin_error)
+    if args.out is not None and args.out.exists() and not args.out.is_dir():
+        raise CaseError(f"--out {str(args.out)!r} is a file: response writes into a directory")
+    from ..model.case import load_case  # NumPy and the model load only when the command runs
+
+    case = load_case(args.case)
+    scene = case.scene(args.scene) if args.scene is not None else None
+
+    import numpy as np
+
+    from ..analysis.response import forced_response, response_summary
+    from ..runs.json_output import json_text
+    from ..runs.progress import ProgressBar
+    from ..runs.response_outputs import write_response
+
+    response = forced_response(
+        case,
+        np.linspace(start, stop, count),
+        scene=scene,
+        harmonics=harmonics,
+        tolerance=tolerance,
+        stability=not args.no_stability,
+        pin_errors=pin_errors or None,
+        progress=ProgressBar("response", enabled=not args.json),
+    )
+    out = args.out or Path("out") / case.name
+    paths = write_response(case, response, out, figures=not args.no_figures)
+    summary = response_summary(response)
+    if args.json:
+        print(json_text({**summary, "files": [str(p) for p in paths]}))
+        return 0
+    _print_table(response, summary)
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {"response": _response}
+"""Handlers of the commands :func:`add_parsers` adds; each returns the exit code."""

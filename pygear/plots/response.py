@@ -1,0 +1,136 @@
+"""Figures of the periodic steady state over speed (plotting only; nothing here computes).
+
+- :func:`plot_dynamic_factor`: K_v of every mesh against the input speed, the speeds at
+  which the mesh frequency meets a natural frequency marked (darker for modes storing
+  more of their energy in the meshes), and ISO 6336-1's resonance ranges of the main
+  mesh mode shaded: subcritical N < 0.85, main resonance 0.85 <= N <= 1.15,
+  supercritical N > 1.15;
+- :func:`plot_load_sharing`: K_gamma of every planetary stage (mean and peak forces);
+- :func:`plot_stability`: the largest Floquet multiplier modulus, unstable speeds shaded.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from .layout import new_figure, result_title
+
+__all__ = ["ISO_RANGES", "plot_dynamic_factor", "plot_load_sharing", "plot_stability"]
+
+DPI = 130
+"""Resolution the figures are drawn at [pixels per inch]; save them at the same."""
+
+ISO_RANGES = (
+    ("subcritical", 0.0, 0.85, "#e8f1fb"),
+    ("main resonance", 0.85, 1.15, "#fde3d9"),
+    ("supercritical", 1.15, np.inf, "#eef7e8"),
+)
+"""ISO 6336-1 (6.3) ranges of the resonance ratio N = n / n_E1, and their shading."""
+
+MARKED_SHARE = 0.01
+"""Resonance speeds of modes with at least this mesh energy share are marked."""
+
+
+def _shade_iso(axes, response: xr.Dataset) -> None:
+    speed = response.speed.values
+    ratio = response.resonance_ratio.values
+    per_ratio = speed[-1] / ratio[-1]  # speed is proportional to N
+    for name, low, high, colour in ISO_RANGES:
+        start, stop = max(low * per_ratio, speed[0]), min(high * per_ratio, speed[-1])
+        if start < stop:
+            axes.axvspan(start, stop, color=colour, zorder=0, lw=0)
+            axes.text(0.5 * (start + stop), 1.0, f"ISO {name}", ha="center", va="bottom",
+                      transform=axes.get_xaxis_transform(), fontsize=7, color="0.35")  # fmt: skip
+
+
+def _mark_resonances(axes, response: xr.Dataset) -> None:
+    speed = response.speed.values
+    per_hz = speed[-1] / response.fundamental_frequency.values[-1]
+    orders = sorted({int(o) for o in response.mesh_order.values})
+    for frequency, share in zip(response.natural_frequency.values,
+                                response.mesh_energy_share.values):  # fmt: skip
+        if share < MARKED_SHARE:
+            continue
+        for order in orders:
+            where = frequency / order * per_hz
+            if speed[0] <= where <= speed[-1]:
+                axes.axvline(where, color="0.3", lw=0.7, ls=":", alpha=0.3 + 0.7 * share)
+
+
+def plot_dynamic_factor(response: xr.Dataset) -> Figure:
+    """Dynamic factor of every mesh against the input speed.
+
+    Parameters
+    ----------
+    response : xarray.Dataset
+        A :func:`pygear.analysis.response.forced_response` result.
+    """
+    figure = new_figure(8.0, 4.6, DPI)
+    axes = figure.add_axes((0.09, 0.12, 0.66, 0.72))
+    _shade_iso(axes, response)
+    _mark_resonances(axes, response)
+    speed = response.speed.values
+    for i, mesh in enumerate(response.mesh.values):
+        axes.plot(speed, response.dynamic_factor.values[:, i], lw=1.0, label=str(mesh))
+    separated = response.separation.values.any(axis=1)
+    if separated.any():
+        axes.plot(speed[separated], np.full(separated.sum(), 1.0), "v", color="tab:red",
+                  ms=3, label="tooth separation")  # fmt: skip
+    axes.set_xlim(speed[0], speed[-1])
+    axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
+    axes.set_ylabel("dynamic factor K_v [-]")
+    axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    figure.suptitle(
+        f"Dynamic factor over speed (dotted: mesh frequency = natural frequency)\n"
+        f"{result_title(response.attrs)}",
+        fontsize=9,
+    )
+    return figure
+
+
+def plot_load_sharing(response: xr.Dataset) -> Figure:
+    """Planet load-sharing factor K_gamma of every planetary stage against speed."""
+    figure = new_figure(7.0, 4.0, DPI)
+    axes = figure.add_axes((0.1, 0.13, 0.62, 0.7))
+    speed = response.speed.values
+    for i, stage in enumerate(response.stage.values):
+        line = axes.plot(speed, response.load_sharing.values[:, i], lw=1.2,
+                         label=f"{stage}: mean forces")[0]  # fmt: skip
+        axes.plot(speed, response.load_sharing_peak.values[:, i], lw=0.8, ls="--",
+                  color=line.get_color(), label=f"{stage}: peak forces")  # fmt: skip
+    axes.axhline(1.0, color="0.5", lw=0.6)
+    axes.set_xlim(speed[0], speed[-1])
+    axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
+    axes.set_ylabel("load-sharing factor K_gamma [-]")
+    if response.sizes["stage"]:
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    else:
+        axes.text(0.5, 0.5, "no planetary stage", transform=axes.transAxes, ha="center")
+    figure.suptitle(f"Planet load sharing over speed\n{result_title(response.attrs)}", fontsize=9)
+    return figure
+
+
+def plot_stability(response: xr.Dataset) -> Figure:
+    """Largest Floquet multiplier modulus against speed, unstable speeds shaded."""
+    figure = new_figure(7.0, 3.6, DPI)
+    axes = figure.add_axes((0.1, 0.15, 0.85, 0.65))
+    speed = response.speed.values
+    if "floquet_multiplier" in response:
+        multiplier = response.floquet_multiplier.values
+        axes.plot(speed, multiplier, lw=1.0, color="tab:blue")
+        unstable = multiplier >= 1.0
+        axes.fill_between(speed, 0, 1, where=unstable, color="tab:red", alpha=0.2,
+                          transform=axes.get_xaxis_transform(), lw=0, label="unstable")  # fmt: skip
+        axes.axhline(1.0, color="tab:red", lw=0.6)
+        if unstable.any():
+            axes.legend(loc="lower right", fontsize=7, frameon=False)
+    else:
+        axes.text(0.5, 0.5, "stability not computed", transform=axes.transAxes, ha="center")
+    axes.set_xlim(speed[0], speed[-1])
+    axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
+    axes.set_ylabel("largest |Floquet multiplier| [-]")
+    figure.suptitle(f"Stability of the periodic steady state\n{result_title(response.attrs)}",
+                    fontsize=9)  # fmt: skip
+    return figure
