@@ -381,7 +381,7 @@ def open_dataset(path: str | os.PathLike, **options) -> xr.Dataset:
     return result
 
 
-def _stackable(dataset: xr.Dataset, keep: frozenset = frozenset()) -> xr.Dataset:
+def _stackable(dataset: xr.Dataset, keep: frozenset = frozenset(), then=None) -> xr.Dataset:
     """``dataset`` through :func:`index_labels`, its coordinates other than indexes (and
     ``keep``) as data variables marked :data:`_COORDINATE_MARK`: xarray stacks data
     variables that some files lack (NaN there), but refuses a coordinate that some files
@@ -391,7 +391,7 @@ def _stackable(dataset: xr.Dataset, keep: frozenset = frozenset()) -> xr.Dataset
     dataset = dataset.reset_coords(names)
     for name in names:
         dataset[name] = dataset[name].copy().assign_attrs({_COORDINATE_MARK: 1})
-    return dataset
+    return then(dataset) if then is not None else dataset  # a caller's own preprocess
 
 
 def _with_coordinates(dataset: xr.Dataset) -> xr.Dataset:
@@ -400,11 +400,6 @@ def _with_coordinates(dataset: xr.Dataset) -> xr.Dataset:
     for name in marked:
         dataset[name].attrs.pop(_COORDINATE_MARK)
     return dataset.set_coords([n for n in marked if n in dataset.data_vars])
-
-
-def _preprocessed(dataset: xr.Dataset, keep: frozenset, then=None) -> xr.Dataset:
-    dataset = _stackable(dataset, keep)
-    return then(dataset) if then is not None else dataset
 
 
 def open_mfdataset(paths, **options) -> xr.Dataset:
@@ -428,9 +423,7 @@ def open_mfdataset(paths, **options) -> xr.Dataset:
     options.setdefault("concat_dim", "scene")
     keep = options["concat_dim"]
     keep = frozenset([keep] if isinstance(keep, str) else [k for k in keep if isinstance(k, str)])
-    options["preprocess"] = functools.partial(
-        _preprocessed, keep=keep, then=options.get("preprocess")
-    )
+    options["preprocess"] = functools.partial(_stackable, keep=keep, then=options.get("preprocess"))
     defaults = {"join": "outer", "data_vars": "all", "coords": "minimal"}
     defaults["compat"] = "no_conflicts"
     for key, value in defaults.items():
