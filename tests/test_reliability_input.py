@@ -524,3 +524,48 @@ def test_small_planet_position_error_is_a_study_not_a_warning(study_case):
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
         _stage_with(study_case, planet_angles_deg=(0.0, 120.1, 240.0)).validate()
+
+
+# --- 9. time step against the mesh period (issue #27.5) ---------------------------------------
+
+
+def _steady_at(case, rpm: float):
+    scene = case.scene("steady_sensor")
+    transient = dataclasses.replace(scene.transient, initial_speed_rpm=rpm, speed_reference_rpm=rpm)
+    scene = dataclasses.replace(scene, transient=transient)
+    return dataclasses.replace(case, scenes=(scene,))
+
+
+def test_time_step_spanning_many_mesh_periods_is_refused():
+    # Z_r = 97 ring teeth pass a held ring Z_r n_c / 60 times a second: at 1e7 rpm 1.617e7
+    # Hz, so the 24.9 us step spans some 400 mesh periods (0.0025 steps per period)
+    case = load_case(SEQUENTIAL)
+    with pytest.raises(CaseError, match=r"^scenes\.steady_sensor\.transient\.time_step = .* "
+                       r"initial_speed_rpm = 1e\+07 rpm stage planetary meshes at 1\.617e\+07 Hz, "
+                       r"0\.00248 steps per mesh period; at least 10"):  # fmt: skip
+        _steady_at(case, 1e7).validate()
+
+
+@pytest.mark.parametrize(("steps", "refused"), [(9.5, True), (10.5, False), (207.0, False)])
+def test_time_step_rule_is_ten_steps_per_mesh_period(steps, refused):
+    case = load_case(SEQUENTIAL)
+    dt = case.scene("steady_sensor").transient.time_step
+    rpm = 60.0 / (97 * steps * dt)  # the speed at which one mesh period is `steps` steps
+    if refused:
+        with pytest.raises(CaseError, match="steps per mesh period"):
+            _steady_at(case, rpm).validate()
+    else:
+        _steady_at(case, rpm).validate()
+
+
+def test_mesh_events_follow_the_nrel_stages_from_the_rotor():
+    # Nejad et al. (2016) Table V: ring 56 teeth on the rotor's carrier, stage 2's ring
+    # (93) on the sun of stage 1 (1 + 56/19 rotor speeds), the 95-tooth wheel on stage
+    # 2's sun ((1 + 56/19)(1 + 93/18)): 56, 367.1 and 2312.5 engagements per rotor turn
+    from pygear.model.time_step import mesh_events_per_input_turn
+
+    events = mesh_events_per_input_turn(load_case(ROOT / "cases" / "nrel5mw_gearbox").gearbox)
+    first = 1 + 56 / 19
+    assert events["stage1"] == pytest.approx(56.0, rel=1e-12)
+    assert events["stage2"] == pytest.approx(93 * first, rel=1e-3)  # base radii, rounded
+    assert events["parallel"] == pytest.approx(95 * first * (1 + 93 / 18), rel=1e-3)

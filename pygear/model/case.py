@@ -20,6 +20,7 @@ from .drivetrain import Drivetrain
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
 from .sensors import Sensor, validate_sensors
+from .time_step import check_time_step
 from .tooth_faults import check_fault_on_tooth
 from .transient_settings import Transient
 
@@ -238,8 +239,11 @@ class Case:
                     f"scenes.{scene.name}.effects: 'helical_coupling' needs a helical stage "
                     "(every stage of this gearbox is spur)"
                 )
-            if scene.parameters:
-                self.for_scene(scene)
+            seen_by_scene = self.for_scene(scene) if scene.parameters else self
+            if scene.transient is not None:
+                check_time_step(
+                    seen_by_scene.gearbox, scene.transient, f"scenes.{scene.name}.transient"
+                )
             self._check_sensor_probes(scene)
 
     def _check_sensor_probes(self, scene: Scene) -> None:
