@@ -36,6 +36,21 @@
 !> of the flank in contact (0 in free flight).  The stiffness in the factor, kf_m,
 !> is kbar_m unless a refactor changed it; each evaluation then contributes the
 !> lagged load g_m = N_m - (kf_m - kbar_m)(delta_m - deltat_m).
+!> Mesh dampers: C holds each mesh's damper c_m b_m b_m^T (c_m = beta kbar_m of Rayleigh
+!> damping); with tooth separation the damper acts only while a flank is in contact,
+!> as the spring does, so N_m gains -c_m ddelta_m while the mesh flies free
+!> (ddelta_m = b_m . v, 0 in contact): C v + N then holds no damper force across the
+!> gap.  The factor keeps c_m (its share gamma c_m / (beta dt) of Khat is switched by
+!> the same lagged load; Khat less the whole mesh term stays positive definite, so the
+!> iteration contracts), and a mesh with c_m = 0, or any mesh without separation,
+!> takes the path without the term.  When the teeth touch within a step, the step may
+!> have no end state whose damper matches its flank: with the damper on, its force
+!> c_m v throws the teeth back into the gap, with it off they end pressed in (for one
+!> mass mu at speed v, when the gap left is between dt v (1 + c_m dt / (4 mu)) /
+!> (1 + c_m dt / (2 mu)) and dt v).  A damper that switched twice within the step's
+!> iteration therefore stays off for that step: it engages one step late, and never
+!> acts across an open gap.  (The predictor mode, one evaluation, takes the damper's
+!> state from the predicted flank as it does the spring's.)
 !> The table is evaluated once per step at the predicted angles (the mesh cycle is
 !> the slow variable; a second call for the coast flanks when a mesh has a finite
 !> backlash); deflections and the flank in contact follow the iterates.
@@ -50,9 +65,11 @@
 !> (contact, free flight, coast) is a jump of g_m, so the step iterates until the
 !> flank of every mesh is the same for two iterates; the equation of motion then
 !> holds at t_n+1 with the piecewise force up to that tolerance, and with average
-!> acceleration and no damping the discrete energy balance (kinetic energy plus the
-!> trapezoidal work of the mesh and K0 forces equals the trapezoidal work of the
-!> loads) closes to that tolerance times the step's deflection change, per step.
+!> acceleration the discrete energy balance (kinetic energy plus the trapezoidal work
+!> of the mesh, K0 and damping forces, a mesh damper's counted only where its flanks
+!> touch, equals the trapezoidal work of the loads) closes to that tolerance times the
+!> step's deflection change, per step (and, in a step whose damper engages late, to
+!> that damper's end work).
 !>
 !> Loads: a drive torque on the input member and a load torque against the output
 !> member, each a law of time (constant, ramp, table) or, for the load, of the
@@ -67,7 +84,7 @@
 module newmark
   use kinds, only: dp, ik
   use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
-  use flank_contact, only: flank_force_law, flank_compression, flank_coast
+  use flank_contact, only: flank_force_law, flank_compression, flank_coast, flank_free
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem, problem_multiply, problem_restoring, matrix_mass
   use newmark_sparse, only: solve_khat, solve_mass, refactor_khat, so_ok
@@ -90,7 +107,7 @@ contains
     real(dp), intent(in) :: v(problem%n)                              !< initial velocities [m/s, rad/s]
     real(dp), intent(out) :: a(problem%n)                             !< initial accelerations [m/s^2, rad/s^2]
     real(dp), intent(out) :: k_used(problem%n_mesh)                   !< mesh stiffness in force [N/m]
-    real(dp), intent(out) :: mesh_var(problem%n_mesh)                 !< (k_m - kbar_m) delta_m [N]
+    real(dp), intent(out) :: mesh_var(problem%n_mesh)                 !< equivalent mesh load N_m at the state [N]
     real(dp), intent(out) :: k_factored(problem%n_mesh)               !< stiffness in the factor kf_m [N/m]
     real(dp), intent(out) :: khat_factor(problem%kd + 1, problem%n)   !< Cholesky factor of Khat [N/m]
     real(dp), intent(out) :: rstate(n_rstate)                         !< t_s [s], drive and load torque [N m]
@@ -100,12 +117,14 @@ contains
     real(dp), allocatable :: work(:, :), rhs(:), delta(:), offset(:)
     real(dp) :: speed
     integer(ik) :: info, j, n, kd, n_mesh
-    logical :: on, coast_flank, sparse
+    logical :: on, coast_flank, sparse, damped
+    logical, allocatable :: free(:)
 
     n = problem%n
     kd = problem%kd
     n_mesh = problem%n_mesh
     coast_flank = problem%iparam(ip_separation) /= 0 .and. any(problem%backlash <= huge(1.0_dp))
+    damped = problem%iparam(ip_separation) /= 0 .and. any(problem%mesh_damping > 0.0_dp)
     a = 0.0_dp
     k_used = problem%mean_stiffness
     mesh_var = 0.0_dp
@@ -144,16 +163,22 @@ contains
     rstate(rs_load) = law_torque(problem%laws, 2, 0.0_dp, member_speed(problem%members, 2, v), &
                               on)
 
-    allocate (rhs(n), delta(n_mesh), offset(n_mesh))
+    allocate (rhs(n), delta(n_mesh), offset(n_mesh), free(n_mesh))
     rhs = 0.0_dp
     call add_member(problem%members, 1, rstate(rs_drive), rhs)
     call add_member(problem%members, 2, -rstate(rs_load), rhs)
     call problem_restoring(problem, v, q, rhs)
     if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
-      call mesh_stiffness(q, delta, k_used, offset, ierr)
+      call mesh_stiffness(q, delta, k_used, offset, free, ierr)
       if (ierr /= nm_ok) return
       mesh_var = (k_used - problem%mean_stiffness) * delta - k_used * offset
+      if (damped) then  ! no damper force across an open gap
+        do j = 1, n_mesh
+          if (free(j)) mesh_var(j) = mesh_var(j) - problem%mesh_damping(j) * &
+                                     sparse_dot(problem%mesh, j, v)
+        end do
+      end if
       do j = 1, n_mesh
         call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
@@ -193,11 +218,12 @@ contains
       end do
     end subroutine deflections
 
-    subroutine mesh_stiffness(x, d, k, o, code)
+    subroutine mesh_stiffness(x, d, k, o, apart, code)
       real(dp), intent(in) :: x(:)      !< displacements [m, rad]
       real(dp), intent(in) :: d(:)      !< mesh deflections [m]
       real(dp), intent(out) :: k(:)     !< stiffness of the flank in contact [N/m]
       real(dp), intent(out) :: o(:)     !< deflection offsets of the flank forces [m]
+      logical, intent(out) :: apart(:)  !< the mesh's flanks are apart (free flight) [-]
       integer(ik), intent(out) :: code  !< error code
       real(dp) :: theta(problem%n_mesh), pos(problem%table%max_pairs, problem%n_mesh)
       real(dp) :: k_drive(problem%n_mesh), k_coast(problem%n_mesh)
@@ -206,6 +232,7 @@ contains
       type(tooth_contact_table) :: coast
       code = nm_ok
       o = 0.0_dp
+      apart = .false.
       if (problem%iparam(ip_varying) /= 0) then
         do m = 1, n_mesh
           theta(m) = sparse_dot(problem%angle, m, x)
@@ -232,6 +259,7 @@ contains
         do m = 1, n_mesh
           call flank_force_law(problem%contact_sign(m), d(m), problem%backlash(m), k_drive(m), &
                                k_coast(m), k(m), o(m), flank)
+          apart(m) = flank == flank_free
         end do
       end if
     end subroutine mesh_stiffness
@@ -257,7 +285,7 @@ contains
     real(dp), intent(inout) :: v(problem%n)                           !< velocities [m/s, rad/s]
     real(dp), intent(inout) :: a(problem%n)                           !< accelerations [m/s^2, rad/s^2]
     real(dp), intent(inout) :: k_used(problem%n_mesh)                 !< mesh stiffness in force [N/m]
-    real(dp), intent(inout) :: mesh_var(problem%n_mesh)               !< (k_m - kbar_m) delta_m [N]
+    real(dp), intent(inout) :: mesh_var(problem%n_mesh)               !< equivalent mesh load N_m at the state [N]
     real(dp), intent(inout) :: k_factored(problem%n_mesh)             !< stiffness in the factor [N/m]
     real(dp), intent(inout) :: khat_factor(problem%kd + 1, problem%n) !< factor of Khat at k_factored (banded path) [N/m]
     real(dp), intent(inout) :: velocity_sum(problem%n)                !< sum of v over the window [m/s, rad/s]
@@ -272,7 +300,9 @@ contains
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
     real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :), k_coast(:), offset(:)
     real(dp), allocatable :: fused(:), a_base(:), load_old(:), x_transposed(:, :)
-    integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:)
+    real(dp), allocatable :: rate(:), rate_t(:), c_off(:)
+    integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:), flips(:)
+    logical, allocatable :: damper_on(:)
     type(tooth_contact_table) :: table, coast_table
     real(dp) :: dt, beta, gamma, alpha_m, alpha_f, scale_k, t_new, t_old, drive, load, drive_new, &
                 load_new, speed_old, speed_new, omega_0, force_scale, change, torque_change
@@ -280,6 +310,7 @@ contains
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
+    logical :: damped
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -320,11 +351,18 @@ contains
     max_iterations = max(problem%iparam(ip_iterations), 1)
     nonlinear = mode /= mode_linear .and. n_mesh > 0
     load_on = istate(is_load_on) /= 0
+    ! mesh dampers that follow the flanks (module header); without, the path of constant C
+    damped = nonlinear .and. separation .and. any(problem%mesh_damping > 0.0_dp)
 
     allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), v_new(n), wc(n), wk(n))
     allocate (delta(n_mesh), delta_t(n_mesh), k_eff(n_mesh), k_step(n_mesh), g(n_mesh), g_new(n_mesh))
     allocate (compression(n_mesh), k_coast(n_mesh), offset(n_mesh), flank(n_mesh))
+    allocate (rate(n_mesh), rate_t(n_mesh), c_off(n_mesh), flips(n_mesh), damper_on(n_mesh))
+    flips = 0
+    damper_on = .true.
     offset = 0.0_dp
+    rate = 0.0_dp
+    c_off = 0.0_dp
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, problem%table%max_pairs, n_mesh))
     dense = problem%iparam(ip_solver) == solver_dense
@@ -371,9 +409,9 @@ contains
       end if
     end if
 
-    if (istate(is_step) == 0) then
-      call record_probes(problem, probe_kind, probes, q, v, a, k_used, rstate, samples, &
-                         n_samples, ierr)
+    if (istate(is_step) == 0) then  ! the dampers of the touching flanks (probes' test)
+      call record_probes(problem, probe_kind, probes, q, v, a, k_used, problem%mesh_damping, &
+                         rstate, samples, n_samples, ierr)
       if (ierr /= nm_ok) return
     end if
 
@@ -528,6 +566,7 @@ contains
       end if
       if (nonlinear) then
         call sparse_products(problem%mesh, a_new, delta)
+        if (damped) rate = rate_t + (gamma * dt) * delta
         delta = delta_t + (beta * dt * dt) * delta
         ! inside the backlash the teeth may gape; only the flank in contact runs away
         if (separation) then
@@ -549,6 +588,7 @@ contains
         else
           mesh_var = (k_eff - problem%mean_stiffness) * delta
         end if
+        if (damped) mesh_var = mesh_var - c_off * rate
         istate(is_separated) = istate(is_separated) + &
                                count(k_eff == 0.0_dp .and. problem%mean_stiffness > 0.0_dp)
         if (separation) istate(is_coast) = istate(is_coast) + count(flank == flank_coast)
@@ -574,8 +614,8 @@ contains
         istate(is_window) = istate(is_window) + 1
       end if
       if (decimation == 1 .or. modulo(istate(is_step), decimation) == 0) then
-        call record_probes(problem, probe_kind, probes, q, v, a, k_used, rstate, samples, &
-                         n_samples, ierr)
+        call record_probes(problem, probe_kind, probes, q, v, a, k_used, &
+                           problem%mesh_damping - c_off, rstate, samples, n_samples, ierr)
         if (ierr /= nm_ok) return
       end if
     end do
@@ -642,6 +682,7 @@ contains
       real(dp), intent(out) :: g_x(:)     !< lagged mesh loads [N]
       integer(ik) :: mm, code
       real(dp) :: speeds(2)
+      logical :: on
       if (first) then  ! x = 0: the predictor itself
         call sparse_products(problem%members, vt, speeds)
       else
@@ -659,8 +700,13 @@ contains
       if (first) then
         call sparse_products(problem%mesh, qt, delta_t)
         delta = delta_t
+        if (damped) then  ! deflection rates b.vt + gamma dt b.x, as the deflections
+          call sparse_products(problem%mesh, vt, rate_t)
+          rate = rate_t
+        end if
       else
         call sparse_products(problem%mesh, x, delta)
+        if (damped) rate = rate_t + (gamma * dt) * delta
         delta = delta_t + (beta * dt * dt) * delta
       end if
       if (first) then
@@ -704,6 +750,20 @@ contains
         g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
       else
         g_x = (k_eff - problem%mean_stiffness) * delta
+      end if
+      if (damped) then  ! the damper C holds is taken out while the flanks are apart
+        if (first) flips = 0
+        do mm = 1, n_mesh
+          on = flank(mm) /= flank_free
+          if (.not. first .and. (on .neqv. damper_on(mm))) flips(mm) = flips(mm) + 1
+          ! a damper that switched twice has no end state of the step that matches its
+          ! flank: the teeth touch within the step and the damper's force c_m v at
+          ! contact throws them back; it stays off for this step (module header)
+          if (flips(mm) >= 2) on = .false.
+          damper_on(mm) = on
+          c_off(mm) = merge(0.0_dp, problem%mesh_damping(mm), on)
+        end do
+        g_x = g_x - c_off * rate
       end if
       if (mode == mode_refactor) g_x = g_x - (k_factored - problem%mean_stiffness) * (delta - delta_t)
     end subroutine evaluate

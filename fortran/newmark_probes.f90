@@ -1,7 +1,10 @@
 !> The output channels of the Newmark kernel (module newmark): one column of probe values
 !> per recorded step.  Linear probes are weights over the DOFs; mesh probes name a mesh
 !> and read its force or stiffness in force (with tooth separation the flank force of
-!> module flank_contact: drive > 0, free 0, coast < 0).
+!> module flank_contact: drive > 0, free 0, coast < 0).  The force is the spring's and
+!> the mesh damper's together, F = k c + c_m s_m b_m . v while the flanks touch
+!> (c the compression of the flank in contact), and 0 while they are apart; c_m is the
+!> damper the step used (c_used).
 module newmark_probes
   use kinds, only: dp, ik
   use newmark_support, only: sparse_rows, probe_displacement, probe_velocity, &
@@ -17,8 +20,8 @@ module newmark_probes
 contains
 
   !> Append one column of probe values to samples.
-  pure subroutine record_probes(problem, probe_kind, probes, x, xd, xdd, k_used, rstate, samples, &
-                                n_samples, ierr)
+  pure subroutine record_probes(problem, probe_kind, probes, x, xd, xdd, k_used, c_used, rstate, &
+                                samples, n_samples, ierr)
     type(transient_problem), intent(in) :: problem     !< the problem
     integer(ik), intent(in) :: probe_kind(:)           !< probe codes [-]
     type(sparse_rows), intent(in) :: probes            !< probe weights (a mesh for mesh kinds) [-]
@@ -26,12 +29,14 @@ contains
     real(dp), intent(in), contiguous :: xd(:)          !< velocities [m/s, rad/s]
     real(dp), intent(in), contiguous :: xdd(:)         !< accelerations [m/s^2, rad/s^2]
     real(dp), intent(in), contiguous :: k_used(:)      !< mesh stiffness in force [N/m]
+    real(dp), intent(in), contiguous :: c_used(:)      !< mesh damper in force while touching [N s/m]
     real(dp), intent(in) :: rstate(n_rstate)           !< t_s [s], drive, load torque [N m]
     real(dp), intent(inout), contiguous :: samples(:, :) !< (probes, columns) channels [channel units]
     integer(ik), intent(inout) :: n_samples            !< columns written [-]
     integer(ik), intent(inout) :: ierr                 !< error code, nm_err_size when full
     integer(ik) :: p, m
     real(dp) :: d
+    logical :: touching
 
     if (n_samples >= size(samples, 2)) then
       ierr = nm_err_size
@@ -46,17 +51,22 @@ contains
         samples(p, n_samples) = dot(probes, p, xd)
       case (probe_acceleration)
         samples(p, n_samples) = dot(probes, p, xdd)
-      case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast)
+      case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast), + damper
         m = probes%index(probes%ptr(p) + 1)
         d = real(problem%contact_sign(m), dp) * dot(problem%mesh, m, x)
+        touching = .true.
         if (problem%iparam(ip_separation) /= 0) then
           if (d < -problem%backlash(m)) then
             d = d + problem%backlash(m)
           else
+            touching = d > 0.0_dp  ! as module flank_contact: free for -b <= c <= 0
             d = max(d, 0.0_dp)
           end if
         end if
         samples(p, n_samples) = k_used(m) * d
+        if (touching .and. c_used(m) > 0.0_dp) &
+          samples(p, n_samples) = samples(p, n_samples) + c_used(m) * &
+                                  real(problem%contact_sign(m), dp) * dot(problem%mesh, m, xd)
       case (probe_mesh_stiffness)
         samples(p, n_samples) = k_used(probes%index(probes%ptr(p) + 1))
       case (probe_drive_torque)

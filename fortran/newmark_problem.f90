@@ -13,6 +13,11 @@
 !> With tooth separation each mesh has a backlash (+inf: no coast flank) and a coast
 !> phase offset (module flank_contact).
 !>
+!> Every mesh names its damper c_m, the share c_m b_m b_m^T of C that acts along its
+!> line of action (beta kbar_m of Rayleigh damping beta K0).  C keeps it; with tooth
+!> separation the kernel takes it out again by the equivalent load while the mesh's
+!> flanks are apart (module newmark), so no damper force acts across an open gap.
+!>
 !> A problem on the dense path (iparam(ip_solver) = solver_dense, module newmark_dense)
 !> also keeps its dense operator at mean mesh stiffness and the meshes' deflections of
 !> its columns, formed once here.  A problem on the sparse path (solver_sparse, module
@@ -62,6 +67,7 @@ module newmark_problem
     integer(ik), allocatable :: contact_sign(:)          !< s_m = +1 or -1 [-]
     real(dp), allocatable :: backlash(:)                 !< b_m >= 0 on the line of action, +inf none [m]
     real(dp), allocatable :: coast_phase(:)              !< coast-flank phase offset [mesh cycles]
+    real(dp), allocatable :: mesh_damping(:)             !< c_m >= 0, the mesh's damper inside C [N s/m]
     logical :: has_table = .false.                       !< a tooth-contact table is held [-]
     type(tooth_contact_table) :: table                   !< the meshes' table (time-varying stiffness)
     type(sparse_rows) :: members                         !< input (1) and output (2) member rotations [rad/rad]
@@ -265,6 +271,10 @@ contains
       ! NaN fails both tests; +inf backlash is allowed (no coast flank)
       if (.not. all(problem%backlash >= 0.0_dp)) return
       if (.not. all(abs(problem%coast_phase) < max_phase)) return
+      if (.not. allocated(problem%mesh_damping)) return
+      if (size(problem%mesh_damping) /= n_mesh) return
+      if (.not. all(problem%mesh_damping >= 0.0_dp .and. problem%mesh_damping <= huge(1.0_dp))) &
+        return
     end associate
     call check_laws(problem%laws, bad, ierr)
   end subroutine check_problem

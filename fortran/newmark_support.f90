@@ -47,7 +47,7 @@ module newmark_support
   integer(ik), parameter :: probe_displacement = 1    !< w . q
   integer(ik), parameter :: probe_velocity = 2        !< w . v
   integer(ik), parameter :: probe_acceleration = 3    !< w . a
-  integer(ik), parameter :: probe_mesh_force = 4      !< flank force F of mesh index(1): drive > 0, coast < 0
+  integer(ik), parameter :: probe_mesh_force = 4      !< flank force F (spring + damper) of mesh index(1): drive > 0, coast < 0
   integer(ik), parameter :: probe_mesh_stiffness = 5  !< k_m in force of mesh index(1)
   integer(ik), parameter :: probe_drive_torque = 6    !< drive torque on the input member
   integer(ik), parameter :: probe_load_torque = 7     !< load torque against the output member

@@ -12,7 +12,8 @@
 subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_band, rparam, iparam, &
                                     n_mesh, mesh_ptr, n_mesh_nz, mesh_index, mesh_value, angle_ptr, &
                                     n_angle_nz, angle_index, angle_value, mean_stiffness, &
-                                    contact_sign, backlash, coast_phase, table_handle, load_ptr, &
+                                    contact_sign, backlash, coast_phase, mesh_damping, &
+                                    table_handle, load_ptr, &
                                     n_load_nz, load_index, &
                                     load_value, law_kind, law_param, law_start, law_size, n_table, &
                                     law_table, n_sparse_nz, sparse_column_start, &
@@ -43,6 +44,7 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
   integer(ik), intent(in) :: contact_sign(n_mesh)       !< s_m = +1 or -1 [-]
   real(dp), intent(in) :: backlash(n_mesh)              !< b_m >= 0 on the line of action, +inf none [m]
   real(dp), intent(in) :: coast_phase(n_mesh)           !< coast-flank phase offset [mesh cycles]
+  real(dp), intent(in) :: mesh_damping(n_mesh)          !< c_m, each mesh's damper inside C [N s/m]
   integer(ik), intent(in) :: table_handle               !< contact table (contact_table_create), 0 none [-]
   integer(ik), intent(in) :: load_ptr(3)                !< input (1) and output (2) member vectors [-]
   integer(ik), intent(in) :: n_load_nz                  !< entries of both [-]
@@ -72,6 +74,7 @@ subroutine transient_problem_create(n, kd, mass_band, damping_band, stiffness_ba
                                                   mean_stiffness=mean_stiffness, &
                                                   contact_sign=contact_sign, &
                                                   backlash=backlash, coast_phase=coast_phase, &
+                                                  mesh_damping=mesh_damping, &
                                                   members=sparse_rows(load_ptr, load_index, load_value), &
                                                   laws=torque_laws(law_kind, law_param, law_start, &
                                                                    law_size, law_table), &
@@ -106,7 +109,7 @@ subroutine transient_start(handle, n, kd, n_mesh, q, v, a, k_used, mesh_var, k_f
   real(dp), intent(in) :: v(n)                         !< initial velocities [m/s, rad/s]
   real(dp), intent(out) :: a(n)                        !< initial accelerations [m/s^2, rad/s^2]
   real(dp), intent(out) :: k_used(n_mesh)              !< mesh stiffness in force [N/m]
-  real(dp), intent(out) :: mesh_var(n_mesh)            !< (k_m - kbar_m) delta_m [N]
+  real(dp), intent(out) :: mesh_var(n_mesh)            !< equivalent mesh load N_m at the state [N]
   real(dp), intent(out) :: k_factored(n_mesh)          !< stiffness in the factor kf_m [N/m]
   real(dp), intent(out) :: khat_factor(kd + 1, n)      !< Cholesky factor of Khat [N/m]
   real(dp), intent(out) :: rstate(3)                   !< t_s [s], drive and load torque [N m]
@@ -151,7 +154,7 @@ subroutine transient_advance(handle, n, kd, n_mesh, n_probe, probe_kind, probe_p
   real(dp), intent(inout) :: v(n)                          !< velocities [m/s, rad/s]
   real(dp), intent(inout) :: a(n)                          !< accelerations [m/s^2, rad/s^2]
   real(dp), intent(inout) :: k_used(n_mesh)                !< mesh stiffness in force [N/m]
-  real(dp), intent(inout) :: mesh_var(n_mesh)              !< (k_m - kbar_m) delta_m [N]
+  real(dp), intent(inout) :: mesh_var(n_mesh)              !< equivalent mesh load N_m at the state [N]
   real(dp), intent(inout) :: k_factored(n_mesh)            !< stiffness in the factor [N/m]
   real(dp), intent(inout) :: khat_factor(kd + 1, n)        !< factor of Khat at k_factored (banded path) [N/m]
   real(dp), intent(inout) :: velocity_sum(n)               !< sum of v over the window [m/s, rad/s]

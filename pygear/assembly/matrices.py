@@ -102,6 +102,10 @@ class MeshElement:
     planet: int
     planet_angle: float
     deflection: np.ndarray  # over the reduced DOFs
+    # c_m [N s/m]: the mesh's damper inside the model's C, c_m b b^T along the deflection
+    # (beta kbar of the Rayleigh damping beta K0); tooth separation switches it off
+    # while the flanks are apart
+    damping: float = 0.0
 
 
 @dataclass
@@ -287,7 +291,11 @@ def assemble(
         gyroscopic = reduction.T @ gyroscopic_full @ reduction
 
     meshes = [
-        MeshElement(**{**info, "deflection": reduction.T @ _vector(len(builder.labels), dofs, b)})
+        MeshElement(
+            **info,
+            deflection=reduction.T @ _vector(len(builder.labels), dofs, b),
+            damping=case.damping.stiffness_coefficient * info["mean_stiffness"],
+        )
         for info, dofs, b in builder.mesh_records
     ]
     model = Model(

@@ -97,6 +97,12 @@ class MeshTerms:
     coast_phase : ndarray, shape (n_mesh,), optional
         Phase of the coast flanks' mesh stiffness against the drive flanks' [mesh
         cycles]; default 0 (the drive flank's phase, an assumption for symmetric teeth).
+    damping : ndarray, shape (n_mesh,), optional
+        c_m >= 0 [N s/m]: the share c_m b_m b_m^T of the damping matrix that is the
+        mesh's own damper (beta kbar_m of Rayleigh damping beta K0); default 0.  The
+        damping matrix keeps it; with ``separation`` the kernel takes it out while the
+        flanks are apart, so the damper acts only in contact, like the spring.  The
+        ``mesh_force`` probe reports k delta + c_m delta' in contact, 0 across the gap.
     """
 
     deflection: np.ndarray
@@ -109,9 +115,10 @@ class MeshTerms:
     names: list[str] = field(default_factory=list)
     backlash: np.ndarray | None = None
     coast_phase: np.ndarray | None = None
+    damping: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        for name, default in (("backlash", math.inf), ("coast_phase", 0.0)):
+        for name, default in (("backlash", math.inf), ("coast_phase", 0.0), ("damping", 0.0)):
             given = getattr(self, name)
             values = np.full(self.size, default) if given is None else given
             values = np.array(values, dtype=np.float64).reshape(-1)
@@ -121,6 +128,10 @@ class MeshTerms:
         if not np.all(self.backlash >= 0):
             raise ValueError(
                 f"MeshTerms.backlash must be >= 0 m or inf (got {self.backlash.tolist()})"
+            )
+        if not np.all((self.damping >= 0) & np.isfinite(self.damping)):
+            raise ValueError(
+                f"MeshTerms.damping must be finite and >= 0 N s/m (got {self.damping.tolist()})"
             )
         if not np.all(np.isfinite(self.coast_phase)):
             raise ValueError(
@@ -367,6 +378,7 @@ class BandedNewmark:
                 "contact_sign": np.ones(1, np.int32),
                 "backlash": np.full(1, math.inf),
                 "coast_phase": np.zeros(1),
+                "mesh_damping": np.zeros(1),
             }
             return arguments
         ptr, idx, val = self._sparse_rows(list(meshes.deflection))
@@ -382,6 +394,7 @@ class BandedNewmark:
             "contact_sign": np.asarray(meshes.contact_sign, dtype=np.int32),
             "backlash": np.asarray(meshes.backlash, dtype=np.float64),
             "coast_phase": np.asarray(meshes.coast_phase, dtype=np.float64),
+            "mesh_damping": np.asarray(meshes.damping, dtype=np.float64),
         }
 
     def _load_arguments(self, drive, load, input_weights, output_weights) -> dict:

@@ -198,6 +198,7 @@ def transient_problem(
             separation=separation,
             names=[mesh.name for mesh in model.meshes],
             backlash=backlash,
+            damping=np.array([mesh.damping for mesh in model.meshes]),
         )
     probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
