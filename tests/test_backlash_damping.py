@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from test_backlash import GAP, STIFFNESS, piecewise_mesh_force, probe, spans
 
-from pygear.analysis.transient import run_transient
+from pygear.analysis.time.transient import run_transient
 from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays, MeshTerms
 from pygear.kernel.sparse_cholesky import sparse_cholesky_available
 
@@ -369,7 +369,7 @@ def test_gearbox_energy_identity_holds_through_damped_impacts(study_case):
     each round by at most n eps of their absolute terms), with the positions' size, as
     the displacement channels carry the rigid rotation; and the late damper's work at
     an entry state (fortran/newmark.f90)."""
-    from pygear.analysis.transient import transient_problem
+    from pygear.analysis.time.transient import transient_problem
     from pygear.assembly.dof_rows import dof_row
     from pygear.model.transient_settings import Probe
 
