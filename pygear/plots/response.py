@@ -59,6 +59,17 @@ def _mark_resonances(axes, response: xr.Dataset) -> None:
                 axes.axvline(where, color="0.3", lw=0.7, ls=":", alpha=0.3 + 0.7 * share)
 
 
+def _speed_axis(axes, speed: np.ndarray) -> None:
+    """The speed range on x (5 % either side of a single speed), points for one speed."""
+    if speed[-1] > speed[0]:
+        axes.set_xlim(speed[0], speed[-1])
+        return
+    axes.set_xlim(0.95 * speed[0], 1.05 * speed[0])
+    for line in axes.get_lines():
+        if np.size(line.get_xdata()) == 1 and line.get_marker() in ("None", None, ""):
+            line.set_marker("o")
+
+
 def plot_dynamic_factor(response: xr.Dataset) -> Figure:
     """Dynamic factor of every mesh against the input speed.
 
@@ -78,7 +89,7 @@ def plot_dynamic_factor(response: xr.Dataset) -> Figure:
     if separated.any():
         axes.plot(speed[separated], np.full(separated.sum(), 1.0), "v", color="tab:red",
                   ms=3, label="tooth separation")  # fmt: skip
-    axes.set_xlim(speed[0], speed[-1])
+    _speed_axis(axes, speed)
     axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
     axes.set_ylabel("dynamic factor K_v [-]")
     axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
@@ -101,7 +112,7 @@ def plot_load_sharing(response: xr.Dataset) -> Figure:
         axes.plot(speed, response.load_sharing_peak.values[:, i], lw=0.8, ls="--",
                   color=line.get_color(), label=f"{stage}: peak forces")  # fmt: skip
     axes.axhline(1.0, color="0.5", lw=0.6)
-    axes.set_xlim(speed[0], speed[-1])
+    _speed_axis(axes, speed)
     axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
     axes.set_ylabel("load-sharing factor K_gamma [-]")
     if response.sizes["stage"]:
@@ -128,7 +139,7 @@ def plot_stability(response: xr.Dataset) -> Figure:
             axes.legend(loc="lower right", fontsize=7, frameon=False)
     else:
         axes.text(0.5, 0.5, "stability not computed", transform=axes.transAxes, ha="center")
-    axes.set_xlim(speed[0], speed[-1])
+    _speed_axis(axes, speed)
     axes.set_xlabel(f"{response.attrs.get('input', 'input')} speed [rpm]")
     axes.set_ylabel("largest |Floquet multiplier| [-]")
     figure.suptitle(f"Stability of the periodic steady state\n{result_title(response.attrs)}",

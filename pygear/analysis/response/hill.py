@@ -265,7 +265,7 @@ def harmonic_balance(
         Stiffness coefficients over at least -3 max_harmonics..3 max_harmonics.
     """
     if not (math.isfinite(omega) and omega > 0):
-        raise CaseError(f"response: the fundamental frequency must be > 0 (got {omega!r})")
+        raise CaseError(f"the fundamental frequency must be > 0 rad/s (got {omega!r})")
     if harmonics != "auto":
         return solve_hill(system, omega, int(harmonics), coefficients)
     counts = [c for c in AUTO_HARMONICS if start <= c <= max_harmonics] or [max_harmonics]

@@ -113,7 +113,7 @@ def forced_response(
     """
     speeds = np.asarray(speeds_rpm, dtype=np.float64).reshape(-1)
     if speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds > 0)):
-        raise CaseError("response: speeds must be finite and > 0 rpm")
+        raise CaseError("--speeds: speeds must be finite and > 0 rpm")
     system = response_system(case, scene, time_varying=time_varying, pin_errors=pin_errors)
     return sweep_system(
         system,

@@ -177,10 +177,7 @@ def _input_output(case: Case, scene: Scene | None) -> tuple[str, str | None, flo
 def _snap(ratio: float) -> Fraction:
     snapped = Fraction(ratio).limit_denominator(SNAP_DENOMINATOR)
     if abs(float(snapped) - ratio) > SNAP_TOLERANCE * ratio:
-        raise CaseError(
-            f"response: a mesh frequency ratio {ratio:.8g} is no ratio of small whole numbers; "
-            "the meshes have no common period (multi-frequency balance not implemented)"
-        )
+        raise CaseError(f"mesh frequency ratio {ratio:.8g} is no ratio of small whole numbers")
     return snapped
 
 
@@ -256,17 +253,17 @@ def response_system(
         case = case.for_scene(scene)
     model = scene_model(case, scene)
     if not model.meshes:
-        raise CaseError(f"response: case {case.name!r} has no gear mesh to balance")
+        raise CaseError(f"case {case.name!r} has no gear mesh to balance")
     input_label, output_label, drive = _input_output(case, scene)
     drive = drive if torque is None else float(torque)
     values, vectors = generalized_eigh(model.stiffness, model.mass)
     rigid = rigid_body_mask(values)
     w_in = dof_row(model, input_label)
     if w_in is None or not np.any(w_in):
-        raise CaseError(f"response: input member {input_label!r} is not a free DOF of the model")
+        raise CaseError(f"input member {input_label!r} is not a free DOF of the model")
     if rigid.sum() != 1:
         raise CaseError(
-            f"response: the model of {case.name!r} has {int(rigid.sum())} rigid-body "
+            f"the model of {case.name!r} has {int(rigid.sum())} rigid-body "
             "rotations; the steady state at constant speed needs exactly one"
         )
     phi = vectors[:, rigid][:, 0]
@@ -299,13 +296,18 @@ def response_system(
                 rates[m] += s * float(row @ phi)
     frequency = table.teeth[0] * np.abs(rates) / (2 * math.pi)  # Hz per rad/s of the input
     if np.any(frequency <= 0):
-        raise CaseError("response: a mesh does not turn in the rigid rotation of the input")
-    orders, fundamental, snapped = mesh_orders(frequency)
-    if orders.max() > MAX_MESH_ORDER:
+        raise CaseError("a mesh does not turn in the rigid rotation of the input member")
+    try:
+        orders, fundamental, snapped = mesh_orders(frequency)
+    except CaseError as error:
+        orders, why = None, str(error)
+    else:
+        why = f"a common period of {int(orders.max())} cycles of the fastest mesh"
+    if orders is None or orders.max() > MAX_MESH_ORDER:
         raise CaseError(
-            f"response: the meshes of {case.name!r} share a period of {int(orders.max())} "
-            f"cycles of the fastest mesh (more than {MAX_MESH_ORDER}); several stages at "
-            "different mesh frequencies need a multi-frequency balance, not implemented yet"
+            f"case {case.name!r}: its meshes run at different mesh frequencies ({why}); "
+            "several stages need a multi-frequency balance, not implemented yet "
+            "(a single planetary stage or gear pair works)"
         )
     mean = np.array([m.mean_stiffness for m in model.meshes])
     tau = np.arange(samples) / samples
