@@ -21,11 +21,24 @@ import warnings
 from collections.abc import Iterator
 
 from ..errors import CaseError
-from . import accuracy, batch, campbell, cases, condition, modal, response, run, show_case
+from . import (
+    accuracy,
+    batch,
+    campbell,
+    cases,
+    condition,
+    modal,
+    rate,
+    response,
+    run,
+    show_case,
+)
 
 __all__ = ["build_parser", "main"]
 
-_FAMILIES = (run, modal, campbell, response, batch, accuracy, condition, cases, show_case)
+_FAMILIES = (
+    run, modal, campbell, response, batch, accuracy, condition, rate, cases, show_case
+)
 """Command families, in the order their subcommands are listed."""
 
 _USER_ERRORS = (

@@ -1,0 +1,308 @@
+"""Rating of a whole gearbox: the torque through its stages, every mesh rated to ISO
+6336, the gears' damage under a duty cycle (ISO 6336-6) and the bearings' life (ISO 281).
+
+Torque flow: the stages are rated in the gearbox's order, the rated input torque and
+speed entering the first gear stage.  A planetary stage is taken as pygear builds it
+(ring held, carrier in, sun out: T_sun = T_c / (1 + z_r/z_s)); a parallel stage from
+its input gear to its output gear.  Losses are neglected.
+
+:func:`rate_gearbox` returns a :class:`GearboxRating` (the mesh ratings and bearing
+lives in plain Python); :mod:`.dataset` turns it into an ``xarray.Dataset``.  Factors
+known from elsewhere enter as given: the rating's own tables, and ``dynamic_factors``
+per mesh from outside (the dynamic factor of ``pygear response``, say).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+from ...errors import CaseError
+from ...model import gear_geometry as geo
+from ...model.geometry_inputs import parallel_mesh_geometry, planetary_mesh_geometry
+from ...model.rating import Rating, RollingBearingData
+from . import bearing_life as iso281
+from . import factors as iso
+from .duty import cycles_to_failure
+from .gear_rating import FactorValue, PairLoad, PairRating, planet_reduced_masses, rate_pair
+
+__all__ = ["GearboxRating", "MeshEntry", "load_sharing_from_forces", "rate_gearbox"]
+
+MESH_MEMBERS = {"sun_mesh": ("sun", "planet"), "ring_mesh": ("planet", "ring"),
+                "mesh": ("input_gear", "output_gear")}
+
+
+@dataclass(frozen=True)
+class MeshEntry:
+    """One rated mesh: its name, its gears' names and the rating."""
+
+    name: str
+    gears: tuple[str, str]
+    stage: str
+    pair: PairLoad
+    rating: PairRating
+
+
+@dataclass
+class GearboxRating:
+    """Every mesh's rating, the gears' damage and the bearings' lives."""
+
+    meshes: list[MeshEntry]
+    damage: dict[str, dict[str, float]] = field(default_factory=dict)
+    bearings: dict[str, dict[str, float]] = field(default_factory=dict)
+    spectrum_hours: float | None = None
+
+
+def load_sharing_from_forces(forces: Sequence[float]) -> float:
+    """K_gamma = max F_i / mean F_i of the planets' mesh forces (static or time means),
+    the definition of ISO 6336-1 cl. 5; feed it back as ``Rating(load_sharing=...)``."""
+    values = [abs(float(f)) for f in forces]
+    if not values or sum(values) <= 0.0:
+        raise CaseError("forces must hold at least one non-zero planet mesh force")
+    return max(values) / (sum(values) / len(values))
+
+
+def _material(rating: Rating, gear: str):
+    try:
+        return rating.materials[gear]
+    except KeyError:
+        raise CaseError(
+            f"rating.materials has no entry for {gear!r}: add {gear!r}: Material(...) "
+            "(or iso6336_5_material(...))"
+        ) from None
+
+
+def _given(table: Mapping[str, float], key: str, name: str) -> FactorValue | None:
+    if key not in table:
+        return None
+    return FactorValue(float(table[key]), f"given in the case (rating.{name})", "given")
+
+
+def _stage_meshes(stage, torque: float, speed: float) -> tuple[list, float, float]:
+    """[(mesh name, members, geometry, torque1, speeds, contacts, m_red, idler, rims)],
+    output torque and speed of one stage."""
+    name = stage.name
+    if hasattr(stage, "planets"):
+        z_s, z_p, z_r = stage.sun.geometry.teeth, stage.planet.geometry.teeth, \
+            stage.ring.geometry.teeth
+        planets = stage.planets
+        t_sun = torque / (1.0 + z_r / z_s)
+        n_sun = speed * (1.0 + z_r / z_s)
+        n_sun_rel = n_sun - speed
+        n_planet_rel = -n_sun_rel * z_s / z_p
+        bores = (stage.sun.bore_radius or 0.0, stage.planet.bore_radius or 0.0)
+        m_sun, m_ring = planet_reduced_masses(stage.sun.geometry, stage.planet.geometry,
+                                              bores, planets)
+        sun_geometry = planetary_mesh_geometry(stage, "sun")
+        ring_geometry = planetary_mesh_geometry(stage, "ring")
+        f_t = (t_sun / planets) / geo.pitch_radius(stage.sun.geometry)
+        t_planet = f_t * geo.pitch_radius(stage.planet.geometry)
+        ring_rim = None
+        if stage.ring.rim_radius is not None:
+            ring_rim = stage.ring.rim_radius - geo.root_radius(stage.ring.geometry)
+        meshes = [
+            (f"{name}.sun_mesh", (f"{name}.sun", f"{name}.planet"), sun_geometry,
+             t_sun / planets, (n_sun_rel, n_planet_rel), (planets, 1), m_sun, (False, True),
+             (None, None)),
+            (f"{name}.ring_mesh", (f"{name}.planet", f"{name}.ring"), ring_geometry,
+             t_planet, (n_planet_rel, -speed), (1, planets), m_ring, (True, False),
+             (None, ring_rim)),
+        ]
+        return meshes, t_sun, n_sun
+    z_in, z_out = stage.input_gear.geometry.teeth, stage.output_gear.geometry.teeth
+    geometry = parallel_mesh_geometry(stage)
+    meshes = [(f"{name}.mesh", (f"{name}.input_gear", f"{name}.output_gear"), geometry,
+               torque, (speed, speed * z_in / z_out), (1, 1), None, (False, False),
+               (None, None))]
+    return meshes, torque * z_out / z_in, speed * z_in / z_out
+
+
+def _gear_stages(case) -> list:
+    stages = [s for s in case.gearbox.stages if hasattr(s, "planets") or hasattr(s, "mesh")]
+    for stage in stages:
+        members = ("sun", "planet", "ring") if hasattr(stage, "planets") else (
+            "input_gear", "output_gear")
+        for member in members:
+            if getattr(stage, member).geometry is None:
+                raise CaseError(
+                    f"{stage.name}.{member}.geometry is needed for a rating (give the gear a "
+                    "GearGeometry: ISO 6336 rates the tooth, not a stiffness)"
+                )
+    if not stages:
+        raise CaseError("case.gearbox has no gear stage to rate")
+    return stages
+
+
+def pair_loads(case, rating: Rating, torque: float, speed: float, application_factor: float,
+               dynamic_factors: Mapping[str, float] | None = None) -> list[tuple]:
+    """(mesh name, gear names, stage, PairLoad) of every mesh at input ``torque`` [N m]
+    and ``speed`` [rpm]."""
+    dynamic_factors = dict(dynamic_factors or {})
+    for key, value in dynamic_factors.items():
+        if not (math.isfinite(value) and value >= 1.0):
+            raise CaseError(f"dynamic_factors[{key!r}] must be a finite number >= 1 "
+                            f"(got {value})")
+    out = []
+    k_a = FactorValue(application_factor, iso.CLAUSES["K_A"] + "; given in the case", "given")
+    for stage in _gear_stages(case):
+        planets = getattr(stage, "planets", 1)
+        k_g = _given(rating.load_sharing, stage.name, "load_sharing")
+        if k_g is None:
+            k_g = FactorValue(
+                iso.planet_load_sharing_default(planets),
+                f"IEC 61400-4:2012 default for {planets} planet(s) (no load-sharing device)",
+                "default")
+        meshes, torque, speed = _stage_meshes(stage, torque, speed)
+        for name, gears, geometry, t1, speeds, contacts, m_red, idler, rims in meshes:
+            given = {}
+            for factor, table, label in (("K_v", rating.dynamic_factor, "dynamic_factor"),
+                                         ("K_Hbeta", rating.face_load_factor, "face_load_factor"),
+                                         ("K_Halpha", rating.transverse_load_factor,
+                                          "transverse_load_factor")):
+                value = _given(table, name, label)
+                if value is not None:
+                    given[factor] = value
+            if name in dynamic_factors:
+                given["K_v"] = FactorValue(float(dynamic_factors[name]),
+                                           "dynamic factor from the dynamic model", "response")
+            load = PairLoad(
+                geometry=geometry,
+                materials=(_material(rating, gears[0]), _material(rating, gears[1])),
+                torque1=t1, speeds=speeds, contacts=contacts, reduced_mass=m_red,
+                idler=idler, rims=rims, application_factor=k_a, load_sharing=k_g,
+                given=given, accuracy_grade=rating.accuracy_grade,
+                oil_viscosity_40=rating.oil_viscosity_40,
+                service_life_h=rating.service_life_h,
+            )
+            out.append((name, gears, stage.name, load))
+    unknown = sorted(set(dynamic_factors) - {entry[0] for entry in out})
+    if unknown:
+        raise CaseError(f"dynamic_factors names unknown meshes {unknown}; the meshes are "
+                        f"{[entry[0] for entry in out]}")
+    return out
+
+
+def _constant_load_damage(entry: MeshEntry, side: int, hours: float) -> tuple[float, float]:
+    """(pitting, bending) damage over ``hours`` at the rated load (K_A included)."""
+    values = entry.rating.gears[side]
+    kind = entry.pair.materials[side].kind
+    per_hour = values["N_L"].value / entry.pair.service_life_h
+    out = []
+    for stress, reference, root in (("sigma_H", "sigma_HG_ref", False),
+                                    ("sigma_F", "sigma_FG_ref", True)):
+        life = cycles_to_failure(kind, values[stress].value, values[reference].value, root)
+        out.append(per_hour * hours / life)
+    return out[0], out[1]
+
+
+def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] | None = None,
+                 duty_cycle=None) -> GearboxRating:
+    """Rate every mesh at the rated point, then the damage and the bearings.
+
+    Parameters
+    ----------
+    case : Case
+        The case (gear geometry on every gear of its gear stages).
+    rating : Rating
+        Materials, factors, safeties, life, bearings.
+    dynamic_factors : dict of str to float, optional
+        K_v per mesh ("stage1.sun_mesh", ...) from outside; used instead of method B.
+    duty_cycle : DutyCycle, optional
+        Overrides ``rating.duty_cycle``.
+    """
+    duty = duty_cycle if duty_cycle is not None else rating.duty_cycle
+    loads = pair_loads(case, rating, rating.rated_torque, rating.rated_speed_rpm,
+                       rating.application_factor, dynamic_factors)
+    meshes = [MeshEntry(name, gears, stage, load, rate_pair(load))
+              for name, gears, stage, load in loads]
+    result = GearboxRating(meshes)
+    life = rating.service_life_h
+    if duty is None:
+        for entry in meshes:
+            for side in (0, 1):
+                pitting, bending = _constant_load_damage(entry, side, life)
+                _add_damage(result.damage, entry.gears[side], entry.name, pitting, bending)
+    else:
+        result.spectrum_hours = sum(duty.hours)
+        scale = life / result.spectrum_hours
+        speeds = duty.speed_rpm or (rating.rated_speed_rpm,) * len(duty.torque)
+        totals: dict[tuple[str, str, int], list[float]] = {}
+        for torque, hours, speed in zip(duty.torque, duty.hours, speeds):
+            if hours <= 0.0:
+                continue
+            # ISO 6336-6: the spectrum replaces K_A, the other factors at each bin's load
+            binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors)
+            for name, gears, _, load in binned:
+                rated = rate_pair(replace(load, service_life_h=hours))
+                for side in (0, 1):
+                    entry = MeshEntry(name, gears, "", replace(load, service_life_h=hours), rated)
+                    pitting, bending = _constant_load_damage(entry, side, hours)
+                    slot = totals.setdefault((name, gears[side], side), [0.0, 0.0])
+                    slot[0] += pitting
+                    slot[1] += bending
+        for (name, gear, _), (pitting, bending) in totals.items():
+            _add_damage(result.damage, gear, name, pitting * scale, bending * scale)
+    result.bearings = _bearings(case, rating, meshes, duty)
+    return result
+
+
+def _add_damage(table: dict, gear: str, mesh: str, pitting: float, bending: float) -> None:
+    slot = table.setdefault(gear, {"pitting": 0.0, "bending": 0.0, "mesh": mesh})
+    # a planet's two flanks (sun side, ring side) are different surfaces; its root sees
+    # both meshes' bending, which Y_M already accounts for: the worse of each counts
+    if max(pitting, bending) > max(slot["pitting"], slot["bending"]):
+        slot["mesh"] = mesh
+    slot["pitting"] = max(slot["pitting"], pitting)
+    slot["bending"] = max(slot["bending"], bending)
+
+
+def _bearing_load(bearing: RollingBearingData, meshes: list[MeshEntry], scale: float,
+                  speed: float, rated_speed: float) -> tuple[float, float, float]:
+    """(F_r, F_a, bearing speed [rpm]) at ``scale`` times the rated torque and input
+    ``speed`` (the meshes were rated at ``rated_speed``)."""
+    if bearing.location.endswith(".planet"):
+        stage = bearing.location.rsplit(".", 1)[0]
+        sun = [m for m in meshes if m.name == f"{stage}.sun_mesh"]
+        if not sun:
+            raise CaseError(f"bearings[{bearing.name!r}].location {bearing.location!r} names "
+                            "no planetary stage of the case")
+        f_t = sun[0].rating.mesh["F_t"].value
+        # the pin carries the sun's and the ring's tangential forces on the planet
+        radial = 2.0 * f_t * scale * bearing.share
+        return radial, 0.0, abs(sun[0].pair.speeds[1]) * speed / rated_speed
+    radial = (bearing.radial_load or 0.0) * scale
+    axial = (bearing.axial_load or 0.0) * scale
+    return radial, axial, bearing.speed_factor * speed
+
+
+def _bearings(case, rating: Rating, meshes: list[MeshEntry], duty) -> dict:
+    out = {}
+    base = rating.rated_speed_rpm
+    for bearing in rating.bearings:
+        if duty is None:
+            bins = [(1.0, base, rating.service_life_h)]
+        else:
+            speeds = duty.speed_rpm or (base,) * len(duty.torque)
+            bins = [(t / rating.rated_torque, n, h)
+                    for t, n, h in zip(duty.torque, speeds, duty.hours) if h > 0.0]
+        loads, revolutions, speeds_used = [], [], []
+        for scale, speed, hours in bins:
+            radial, axial, n = _bearing_load(bearing, meshes, scale, speed, base)
+            loads.append(iso281.equivalent_load(radial, axial, bearing.e, bearing.X,
+                                                bearing.Y, bearing.Y1))
+            revolutions.append(60.0 * n * hours)
+            speeds_used.append(n)
+        p_m = iso281.mean_load(loads, revolutions, bearing.kind)
+        hours = sum(h for *_, h in bins)
+        speed = sum(revolutions) / (60.0 * hours)
+        l10 = iso281.basic_life(bearing.C, p_m, bearing.kind)
+        d_m = bearing.pitch_diameter * 1e3
+        kappa = bearing.viscosity / iso281.reference_viscosity(speed, d_m)
+        c_u = bearing.fatigue_load_limit or iso281.fatigue_load_limit(bearing.C0, bearing.kind,
+                                                                      d_m)
+        a = iso281.a_iso(bearing.kind, kappa, bearing.contamination, c_u, p_m)
+        l10_h = l10 * 1e6 / (60.0 * speed)
+        out[bearing.name] = {"P": p_m, "speed": speed, "L10": l10, "L10_h": l10_h,
+                             "a_ISO": a, "kappa": kappa, "C_u": c_u, "L10m_h": a * l10_h}
+    return out
