@@ -145,89 +145,125 @@ def loop_arrays(problem) -> LoopArrays:
     )
 
 
-def numpy_fused(arrays: LoopArrays, steps: int) -> tuple[np.ndarray, float]:
-    """The kernel's step as a NumPy loop with two fused products per step; the channels
-    (``arrays.names`` by steps) and t_s [s].
+def numpy_fused(
+    arrays: LoopArrays, steps: int, checks: bool = True
+) -> tuple[np.ndarray, float]:
+    """The kernel's step as a plain fused NumPy loop; the channels (``arrays.names`` by
+    steps) and t_s [s].
 
-    Product 1 is the dense path's: a = X [vt; qt; drive; load; g].  Product 2 reads
-    everything else from the new state [q; v; a]: the channels, the deflection change
-    B a, the input speed, and the next step's predictor angles, deflections and output
-    speed (qt and vt are linear in q, v, a).  The mesh stiffness is the parabola or
-    helical law vectorised over meshes and pairs.
+    One matrix-vector product a step and, besides it, only the work the kernel does:
+
+    * the dense path's a = X x, x = [vt; qt; drive; load; g], gives the new state
+      q = qt + beta dt^2 a, v = vt + gamma dt a, and everything a step reads from the
+      state is linear in it: so one operator W = R U takes x to the next step's vt and
+      qt (straight into x), the channels, the input speed (for t_s), the next predictor's
+      tooth-passing cycles Z A qt / 2 pi, deflections B qt and output speed, and the two
+      runaway bounds that the kernel checks every step (|a| and the mesh deflections
+      B q, each row scaled by its bound, so that one slice holds both checks;
+      ``checks=False`` leaves them out, a loop that does less than the kernel);
+    * each mesh runs its own contact law, the parabola for spur meshes and the
+      contact-line law for helical ones (meshes ordered by law, so each law reads a
+      slice), never both.
     """
     n, dt, beta, gamma = arrays.n, arrays.time_step, arrays.beta, arrays.gamma
     n_mesh = len(arrays.mean_stiffness)
     shift = dt * dt * (0.5 - beta)  # qt = q + dt v + shift a
     lag = dt * (1.0 - gamma)  # vt = v + lag a
     b_dt2, g_dt = beta * dt * dt, gamma * dt
-    zero = np.zeros(n)
-
-    def row(q=zero, v=zero, a=zero):
-        return np.concatenate([q, v, a])
-
-    rows = [row(v=w) if kind == "velocity" else row(a=w) for _, kind, w in arrays.linear]
-    rows += [row(q=arrays.contact_sign[m] * arrays.deflection[m]) for _, m in arrays.forces]
-    n_channels = len(rows)
-    rows += [row(a=b) for b in arrays.deflection]  # B a
-    rows += [row(v=arrays.w_in)]  # input speed
-    for block in (arrays.angle, arrays.deflection):  # next theta and delta_t: A qt, B qt
-        rows += [row(q=w, v=dt * w, a=shift * w) for w in block]
-    rows += [row(v=arrays.w_out, a=lag * arrays.w_out)]  # next output speed w_out . vt
-    readout = np.array(rows)
-    fused = arrays.fused
-    kbar, eps, lam = arrays.mean_stiffness, arrays.contact_ratio, arrays.end_to_peak
-    cycles_per_rad = arrays.cycle_sign * arrays.teeth / (2 * math.pi)
-    peak = 3 * kbar / (eps * (2 + lam))
-    transverse = np.where(arrays.helical, eps - lam, 1.0)
+    # meshes by law: spur (parabola) first, then helical; positions of each mesh there
+    order = np.concatenate([np.flatnonzero(~arrays.helical), np.flatnonzero(arrays.helical)])
+    n_spur = int(np.count_nonzero(~arrays.helical))
+    position = np.argsort(order)
+    deflection, angle = arrays.deflection[order], arrays.angle[order]
+    kbar = arrays.mean_stiffness[order]
+    eps, lam = arrays.contact_ratio[order], arrays.end_to_peak[order]
+    cycles_per_rad = (arrays.cycle_sign * arrays.teeth)[order] / (2 * math.pi)
+    phase = arrays.phase[order]
+    # parabola: peak (1 - (1 - lam) u^2), u = 2 p / eps - 1
+    spur, helical = slice(0, n_spur), slice(n_spur, n_mesh)
+    eps_spur, eps_helical = eps[spur], eps[helical]
+    peak = (3 * kbar / (eps * (2 + lam)))[spur]
+    curvature = peak * (1 - lam[spur])
+    slope = 2 / eps_spur
+    # contact-line law: kbar min(p, eps - p, min(eps_a, lam)) / (eps_a lam), eps_a = eps - lam
+    transverse = (eps - lam)[helical]
+    cap = np.minimum(transverse, lam[helical])
+    line_scale = kbar[helical] / (transverse * lam[helical])
     offsets = np.arange(arrays.max_pairs)[:, None]
     p1, p2, p3 = arrays.load
     omega_0 = arrays.speed_reference
 
-    q, v, a = np.zeros(n), np.zeros(n), arrays.initial_acceleration.copy()
-    state = np.concatenate([q, v, a])
+    zero, eye = np.zeros(n), np.eye(n)
+
+    def row(q=zero, v=zero, a=zero):
+        return np.concatenate([q, v, a])
+
+    def predicted(w):  # w . qt of the next step, qt = q + dt v + shift a
+        return row(q=w, v=dt * w, a=shift * w)
+
+    # R: what a step reads from the new state [q; v; a], in this order
+    rows = [row(v=e, a=lag * e) for e in eye] + [predicted(e) for e in eye]  # next vt, qt
+    channels = slice(len(rows), len(rows) + len(arrays.linear) + len(arrays.forces))
+    rows += [row(v=w) if kind == "velocity" else row(a=w) for _, kind, w in arrays.linear]
+    rows += [row(q=arrays.contact_sign[m] * arrays.deflection[m]) for _, m in arrays.forces]
+    speed_in = len(rows)
+    rows += [row(v=arrays.w_in)]  # input speed
+    cycles = slice(len(rows), len(rows) + n_mesh)  # next tooth-passing cycles Z A qt / 2 pi
+    rows += [predicted(w) for w in cycles_per_rad[:, None] * angle]
+    deflections = slice(len(rows), len(rows) + n_mesh)  # next delta_t = B qt
+    rows += [predicted(w) for w in deflection]
+    speed_out = len(rows)
+    rows += [row(v=arrays.w_out, a=lag * arrays.w_out)]  # next output speed w_out . vt
+    check = len(rows)  # the kernel's runaway bounds, as |row . state| <= 1
+    rows += [row(a=e / 1e15) for e in eye] + [row(q=w / 1e-3) for w in deflection]
+    readout = np.array(rows)
+    # U: [q; v; a] = [E_qt + b X; E_vt + g X; X] x; the step's operator W = R U
+    fused = arrays.fused.copy()
+    fused[:, 2 * n + 2 :] = arrays.fused[:, 2 * n + 2 :][:, order]
+    update = np.vstack([fused * b_dt2, fused * g_dt, fused])
+    update[np.arange(n), n + np.arange(n)] += 1.0  # q = qt + ...
+    update[n + np.arange(n), np.arange(n)] += 1.0  # v = vt + ...
+    step_operator = readout @ update
+    n_channels = channels.stop - channels.start
+    force_rows = slice(len(arrays.linear), n_channels)
+    force_mesh = position[[m for _, m in arrays.forces]]
+
+    state = np.concatenate([np.zeros(2 * n), arrays.initial_acceleration])
     out = readout @ state
     samples = np.empty((n_channels + 2, steps))
-    x = np.empty(fused.shape[1])
-    load_on, t_s = False, math.nan
-    first = n_channels + n_mesh + 1  # the predictor quantities in ``out``
+    samples[n_channels] = arrays.drive
+    x = np.empty(step_operator.shape[1])
+    x[2 * n] = arrays.drive
+    k = np.empty(n_mesh)
+    load, load_on, t_s = 0.0, False, math.nan
     for step in range(steps):
-        theta = out[first : first + n_mesh]
-        delta_t = out[first + n_mesh : first + 2 * n_mesh]
-        speed_out = out[-1]
-        cycle = cycles_per_rad * theta + arrays.phase
-        p = (cycle - np.floor(cycle)) + offsets  # pairs at frac(s) + j while < eps
-        u = 2 * p / eps - 1
-        pair = np.where(
-            arrays.helical,
-            kbar * np.minimum(np.minimum(p, eps - p), np.minimum(transverse, lam))
-            / (transverse * lam),
-            peak * (1 - (1 - lam) * u * u),
-        )
-        k = np.where(p < eps, pair, 0.0).sum(axis=0)
-        load = math.copysign(p1 * abs(speed_out / p2) ** p3, speed_out) if load_on else 0.0
-        x[:n] = v + lag * a  # vt
-        x[n : 2 * n] = q + dt * v + shift * a  # qt
-        x[2 * n] = arrays.drive
+        x[: 2 * n] = out[: 2 * n]
+        delta_t = out[deflections]
+        if load_on:
+            speed = out[speed_out]
+            load = math.copysign(p1 * abs(speed / p2) ** p3, speed)
         x[2 * n + 1] = load
+        cycle = out[cycles] + phase
+        p = (cycle - np.floor(cycle)) + offsets  # pairs at frac(s) + j while < eps
+        if n_spur:
+            ps = p[:, spur]
+            pair = peak - curvature * (slope * ps - 1) ** 2
+            k[spur] = np.where(ps < eps_spur, pair, 0.0).sum(axis=0)
+        if n_spur < n_mesh:
+            ph = p[:, helical]
+            pair = line_scale * np.minimum(np.minimum(ph, eps_helical - ph), cap)
+            k[helical] = np.where(ph < eps_helical, pair, 0.0).sum(axis=0)
         x[2 * n + 2 :] = (k - kbar) * delta_t
-        speed_old = out[n_channels + n_mesh]
-        a = fused @ x  # product 1
-        state[:n] = q = x[n : 2 * n] + b_dt2 * a
-        state[n : 2 * n] = v = x[:n] + g_dt * a
-        state[2 * n :] = a
-        out = readout @ state  # product 2
-        delta = delta_t + b_dt2 * out[n_channels : n_channels + n_mesh]
-        if not (np.abs(a).max() <= 1e15 and np.abs(delta).max() <= 1e-3):
+        speed_old = out[speed_in]
+        out = step_operator @ x
+        if checks and not np.abs(out[check:]).max() <= 1.0:
             raise FloatingPointError(f"the NumPy loop ran away at step {step + 1}")
-        speed = out[n_channels + n_mesh]
-        if not load_on and speed >= omega_0:
+        if not load_on and out[speed_in] >= omega_0:
             load_on = True
+            speed = out[speed_in]
             t_s = step * dt + dt * (omega_0 - speed_old) / (speed - speed_old)
-        samples[:n_channels, step] = out[:n_channels]
-        samples[n_channels - len(arrays.forces) : n_channels, step] *= k[
-            [m for _, m in arrays.forces]
-        ]
-        samples[n_channels, step] = arrays.drive
+        samples[:n_channels, step] = out[channels]
+        samples[force_rows, step] *= k[force_mesh]
         samples[n_channels + 1, step] = load
     return samples, t_s
 

@@ -17,12 +17,17 @@ and reporting medians:
   for C v + K0 q; band products and dpbtrs; one fused dgemv per step for the dense
   inverse (the fastest algorithm at these sizes, but not backward stable, hence not the
   default);
-* a fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a precomputed
-  dense inverse, two fused matrix-vector products per step, the same channels);
+* a plain fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a
+  precomputed dense inverse folded with the state update and every read-out into one
+  matrix-vector product per step, each mesh's own contact law and no other, the same
+  channels, and the kernel's two runaway bounds checked every step as the kernel checks
+  them), and the same loop without those checks, which does less than the kernel;
 * each as a ratio to the kernel of the same repeat (median of the ratios); the three
   trajectories are compared;
-* what rigid-body rebasing costs, and memory: the peak of traced allocations for runs of
-  different lengths and probe counts, against the full state (steps x DOFs x q, v, a).
+* what rigid-body rebasing costs, a run that rebases and one that never does alternating
+  within each repeat (median of the ratios), and memory: the peak of traced allocations
+  for runs of different lengths and probe counts, against the full state (steps x DOFs x
+  q, v, a).
 
 Times are the CPU time of the running thread (the kernel's and NumPy's thread, the bare
 program's process with one OpenBLAS thread): on a small machine shared with other work a
@@ -104,14 +109,10 @@ def kernel_times(problem, steps: int) -> tuple[float, float]:
     return spent[0] / result.steps * 1e6, result.solver_wall_s / result.steps * 1e6
 
 
-def _numpy_cpu_us(arrays, steps: int) -> float:
+def _numpy_cpu_us(arrays, steps: int, checks: bool = True) -> float:
     started = time.thread_time()
-    numpy_fused(arrays, steps)
+    numpy_fused(arrays, steps, checks=checks)
     return (time.thread_time() - started) / steps * 1e6
-
-
-def median(function, repeats: int) -> float:
-    return statistics.median(function() for _ in range(repeats))
 
 
 def main() -> None:
@@ -149,6 +150,7 @@ def main() -> None:
         "bare loop, banded": lambda: (bare.run("band").cpu_us_per_step, None),
         "bare loop, dense inverse": lambda: (bare.run("dense_blas").cpu_us_per_step, None),
         "fused NumPy loop": lambda: (_numpy_cpu_us(arrays, args.numpy_steps), None),
+        "NumPy loop, no checks": lambda: (_numpy_cpu_us(arrays, args.numpy_steps, False), None),
     }
     if solver.linear_solver == "sparse_cholesky":  # built with CHOLMOD: its floor too
         rows["bare loop, CHOLMOD"] = lambda: (bare.run("sparse").cpu_us_per_step, None)
@@ -190,6 +192,8 @@ def main() -> None:
     )
     numpy_ratio = ratio("fused NumPy loop", "kernel")
     print(f"  fused NumPy loop / kernel                   {numpy_ratio:6.1f}")
+    unchecked = ratio("NumPy loop, no checks", "kernel")
+    print(f"  NumPy loop without the checks / kernel      {unchecked:6.1f}   (does less)")
     banded_ratio = ratio("kernel, banded path", "kernel")
     print(f"  banded kernel / kernel                      {banded_ratio:6.2f}")
 
@@ -214,25 +218,37 @@ def main() -> None:
         f"(NaN: not reached)"
     )
 
-    def wall_us() -> float:
-        started = time.perf_counter()
-        result = kernel_run(problem, args.steps)
-        return (time.perf_counter() - started) / result.steps * 1e6
-
-    whole = median(wall_us, args.repeats)
-
-    # rigid-body rebasing (pygear.kernel.newmark_rebase) against a run that never rebases
+    # rigid-body rebasing (pygear.kernel.newmark_rebase) against a run that never
+    # rebases, the two alternating within each repeat
     import pygear.kernel.newmark_rebase as rebase
 
-    default_steps = rebase.REBASE_STEPS
-    rebase.REBASE_STEPS = 1 << 62
-    try:
-        never = median(wall_us, args.repeats)
-    finally:
-        rebase.REBASE_STEPS = default_steps
+    def run_us(rebase_steps: int) -> tuple[float, float]:
+        """CPU time of this thread and wall clock of a whole run [us per step]."""
+        default_steps = rebase.REBASE_STEPS
+        rebase.REBASE_STEPS = rebase_steps
+        try:
+            wall_started, cpu_started = time.perf_counter(), time.thread_time()
+            result = kernel_run(problem, args.steps)
+            cpu, wall_clock = time.thread_time() - cpu_started, time.perf_counter() - wall_started
+        finally:
+            rebase.REBASE_STEPS = default_steps
+        return cpu / result.steps * 1e6, wall_clock / result.steps * 1e6
+
+    every = rebase.REBASE_STEPS
+    rebasing: dict[str, list[tuple[float, float]]] = {"rebasing": [], "never": []}
+    for _ in range(args.repeats):
+        rebasing["rebasing"].append(run_us(every))
+        rebasing["never"].append(run_us(1 << 62))
+    cost = statistics.median(
+        a[0] / b[0] - 1 for a, b in zip(rebasing["rebasing"], rebasing["never"])
+    )
+    with_it, without = (
+        statistics.median(t[0] for t in rebasing[k]) for k in ("rebasing", "never")
+    )
     print(
-        f"rebasing every {default_steps} steps costs {100 * (whole / never - 1):+.1f} % "
-        f"({whole:.3f} against {never:.3f} us per step without it)"
+        f"rebasing every {every} steps costs {100 * cost:+.1f} % of a whole run's CPU time "
+        f"(median of {args.repeats} alternating pairs; {with_it:.3f} against {without:.3f} "
+        f"us per step without it)"
     )
 
     print("\nmemory (peak of traced allocations during the run):")
