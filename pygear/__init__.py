@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     )
     from .model.gear_geometry import GearGeometry
     from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+    from .model.rating import DutyCycle, Material, Rating, RollingBearingData
     from .model.sensors import Sensor, StructuralMode
     from .model.transient_settings import Probe, TorqueLaw, Transient
 
@@ -70,6 +71,7 @@ _SOURCES = {
     ),
     ".model.gear_geometry": ("GearGeometry",),
     ".model.gearbox": ("Gearbox", "ParallelStage", "RigidLink", "ShaftInertia", "TorsionalSpring"),
+    ".model.rating": ("DutyCycle", "Material", "Rating", "RollingBearingData"),
     ".model.sensors": ("Sensor", "StructuralMode"),
     ".model.transient_settings": ("Probe", "TorqueLaw", "Transient"),
 }
@@ -98,11 +100,13 @@ __all__ = [
     "CaseError",
     "Coupling",
     "Drivetrain",
+    "DutyCycle",
     "Gear",
     "GearGeometry",
     "Gearbox",
     "GearboxMount",
     "Generator",
+    "Material",
     "Mesh",
     "ParallelStage",
     "RigidLink",
@@ -111,7 +115,9 @@ __all__ = [
     "PlanetBearing",
     "PlanetaryStage",
     "Probe",
+    "Rating",
     "RayleighDamping",
+    "RollingBearingData",
     "Rotor",
     "Scene",
     "Shaft",

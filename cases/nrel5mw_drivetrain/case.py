@@ -338,3 +338,6 @@ case = Case(
         ),
     ),
 )
+
+# The gearbox's rating data (pygear rate): the same stages, materials and bearings.
+rating = G.rating

@@ -57,6 +57,7 @@ from pygear import (
     Transient,
 )
 from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
+from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
 from pygear.model import (
     GearGeometry,
     MeshGeometry,
@@ -699,5 +700,93 @@ case = Case(
             effects=("time_varying_mesh_stiffness",),
             transient=RUNUP,
         ),
+    ),
+)
+
+# ----------------------------------------------------------------------------------
+# Rating data (pygear rate: ISO 6336 and ISO 281).  Sources beyond the tags above:
+# [Repro-KS] the reproduction's KISSsoft report of stage 1 (``@NREL_5MW/stage_01.rtf``,
+# ISO 6336:2006 method B): materials, roughness, oil, accuracy grade, K_A, K_gamma,
+# K_Hbeta, required safeties and life, which follow IEC 61400-4.
+# ----------------------------------------------------------------------------------
+
+CARBURIZED = iso6336_5_material(
+    "18CrNiMo7-6",
+    "case_carburized",
+    "MQ",  # ISO 6336-5 MQ, sigma_Hlim 1500 MPa, sigma_Flim 425 MPa ([Repro-KS]: 430)
+    flank_roughness_rz=4.8e-6,  # [Repro-KS]
+    root_roughness_rz=20e-6,  # [Repro-KS]
+    young_modulus=YOUNG_MODULUS,
+    poisson_ratio=POISSON_RATIO,
+)
+# Through-hardened ring [Repro-KS] (34CrNiMo6, HBW 240): its material data base gives
+# sigma_Hlim 700 and sigma_Flim 290 MPa (ISO 6336-5's MQ line at 300 HV would give
+# 637 and 235 MPa).
+RING_STEEL = Material(
+    name="34CrNiMo6",
+    kind="through_hardened",
+    grade="MQ",
+    sigma_hlim=700e6,
+    sigma_flim=290e6,
+    hardness_hb=240.0,
+    flank_roughness_rz=8.0e-6,  # [Repro-KS]
+    root_roughness_rz=20e-6,  # [Repro-KS]
+    young_modulus=YOUNG_MODULUS,
+    poisson_ratio=POISSON_RATIO,
+)
+RATING_MATERIALS = {
+    **{f"{stage}.{member}": CARBURIZED for stage in ("stage1", "stage2")
+       for member in ("sun", "planet")},
+    "stage1.ring": RING_STEEL,
+    "stage2.ring": RING_STEEL,  # ASSUMED: as stage 1's ring [Repro-KS covers stage 1]
+    # ASSUMED: the parallel stage carburized like the planetary suns and planets
+    "parallel.input_gear": CARBURIZED,
+    "parallel.output_gear": CARBURIZED,
+}
+# IEC 61400-4's minimum face load factor K_Hbeta = 1.15, as [Repro-KS] applies it
+FACE_LOAD_FACTOR = {mesh: 1.15 for mesh in (
+    "stage1.sun_mesh", "stage1.ring_mesh", "stage2.sun_mesh", "stage2.ring_mesh",
+    "parallel.mesh",
+)}
+
+
+def planet_bearing(name: str, stage: str, c: float, c0: float, pitch_diameter: float):
+    """A planet bearing: one of the two CRBs on each planet pin [P-VI,IX], half the pin's
+    load each.  C and C0 are not in the tables: ASSUMED estimates by ISO 281's rating
+    formulas for a full-complement double-row CRB of the tabulated envelope
+    (C = b_m f_c (i L_we)^(7/9) Z^(3/4) D_we^(29/27), b_m = 1.1; roller size and count
+    ASSUMED from the section height); replace them with the catalogue's."""
+    return RollingBearingData(
+        name=name,
+        kind="roller",
+        C=c,
+        C0=c0,
+        location=f"{stage}.planet",
+        share=0.5,
+        pitch_diameter=pitch_diameter,
+        contamination=0.5,  # ASSUMED: ISO 281 Table 13, normal cleanliness, filtered oil
+        viscosity=68.0,  # ASSUMED: 220 cSt oil [Repro-KS] at about 70 degC
+    )
+
+
+rating = Rating(
+    materials=RATING_MATERIALS,
+    rated_torque=RATED_ROTOR_TORQUE,  # 5 MW at 12.1 rpm [Jonkman]
+    rated_speed_rpm=RATED_ROTOR_SPEED_RPM,
+    application_factor=1.25,  # K_A [Repro-KS], IEC 61400-4
+    required_sh=1.25,  # S_Hmin [Repro-KS], IEC 61400-4
+    required_sf=1.56,  # S_Fmin [Repro-KS], IEC 61400-4
+    service_life_h=20 * 8760.0,  # 20 years [Repro-KS] (175 200 h)
+    # K_gamma: the 3-planet default 1.10 (as [Repro-KS]); K_v by method B
+    face_load_factor=FACE_LOAD_FACTOR,
+    accuracy_grade=6,  # ISO 1328 grade 6 [Repro-KS]
+    oil_viscosity_40=220.0,  # [Repro-KS]
+    bearings=(
+        # PL-A, PL-B: 600 x 400 x 272 mm CRB [P-VI,IX]; d_m 0.5 m; ASSUMED C, C0
+        planet_bearing("PL-A", "stage1", c=5.7e6, c0=14.1e6, pitch_diameter=0.500),
+        planet_bearing("PL-B", "stage1", c=5.7e6, c0=14.1e6, pitch_diameter=0.500),
+        # IMS-PL-A, IMS-PL-B: 520 x 380 x 140 mm CRB [P-VI,IX]; ASSUMED C, C0
+        planet_bearing("IMS-PL-A", "stage2", c=2.6e6, c0=6.3e6, pitch_diameter=0.450),
+        planet_bearing("IMS-PL-B", "stage2", c=2.6e6, c0=6.3e6, pitch_diameter=0.450),
     ),
 )
