@@ -1,0 +1,539 @@
+r"""Contact loss and backlash in the periodic steady state: AFT harmonic balance.
+
+Where the linear balance (:mod:`.hill`) finds a mesh force going negative, the teeth
+part in reality.  Each mesh then carries, along its deflection delta_m, the force of
+the kernel's flank law (``fortran/flank_contact.f90``): with the compression
+c = s_m delta_m and the normal backlash b_m (:func:`pygear.assembly.mesh_backlash.
+line_of_action_backlash`),
+
+    F_m = k_m(t) g(c),   g(c) = c (c > 0, drive flank), 0 (-b_m <= c <= 0, free
+    flight), c + b_m (c < -b_m, coast flank),
+
+the backlash law of Kahraman & Singh (1990, J. Sound Vib. 142(1), 49-75) with the
+origin at drive-flank contact (their x - b, their gap 2b being b_m here); the coast
+flank takes the drive flank's stiffness (the kernel's default coast phase offset 0).
+The force along delta_m is p_m = s_m F_m.
+
+Condensation.  Writing p_m = kbar_m delta_m + r_m(delta, t), the elastic equations of
+:mod:`.system` read y'' + C_r y' + Lambda y + B^T r = f, so harmonic j of the mesh
+deflections obeys, with the receptance G_j = B D_j^-1 B^T of :mod:`.hill`,
+
+    delta_j + G_j r_j(delta) - B D_j^-1 f_j = 0,                             (3)
+
+exact (no assumption on r); with r = dk(t) delta it is Hill's condensed system (2).
+
+Unknowns are the real Fourier coefficients of every mesh deflection, harmonics 0..H:
+delta_m(t) = a_0 + sum_k (a_k cos k omega t + b_k sin k omega t).  r_j follows by the
+alternating frequency-time method (Cameron & Griffin 1989, J. Appl. Mech. 56(1),
+149-154): the coefficients are synthesised at N equally spaced instants, the force law
+evaluated there and the samples transformed back.  Newton's method takes the analytic
+Jacobian I + G A diag(k g'(c) - kbar) E by the same transforms (E the synthesis and A
+the analysis matrix), and :mod:`.continuation` follows the branch in omega by
+pseudo-arclength, through the turning points of the softening jump (Kahraman & Singh
+1990; Parker, Vijayakar & Imajo 2000, J. Sound Vib. 237(3), 435-455).  N = 2^p >=
+8 (2H + 1) keeps the aliasing of the force's harmonics small; with a smooth force law
+and no contact loss the products are exact and (3) is Hill's (2) to round-off.
+
+Stability.  The force law is continuous in delta, so the linearisation about a periodic
+orbit is the variational equation y'' + C_r y' + (Lambda + B^T diag(k g'(c(t)) - kbar)
+B) y = 0 with the contact state's stiffness at each instant (no saltation matrix: the
+vector field has no jump); its Floquet multipliers come from :mod:`.floquet`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from .continuation import Branch, continue_branch
+from .floquet import DEFAULT_SEGMENTS, floquet_multipliers, segment_means
+from .system import ResponseSystem
+
+__all__ = [
+    "BacklashLaw",
+    "BacklashProblem",
+    "continue_response",
+    "oscillator_system",
+]
+
+SEPARATION_SAMPLES = 1024
+"""Instants per period at which the reported signals are read."""
+
+
+@dataclass(frozen=True)
+class BacklashLaw:
+    """The flank law of every mesh: drive flank, free flight in the backlash, coast flank.
+
+    Attributes
+    ----------
+    backlash : ndarray, shape (n_mesh,)
+        b_m >= 0 along the line of action [m]; ``inf`` leaves the coast flank out.
+    smoothing : float
+        eps >= 0 [m]: each kink max(c, 0) is replaced by (c + sqrt(c^2 + eps^2)) / 2, a
+        regularised contact (0: the kernel's exact law).
+    """
+
+    backlash: np.ndarray
+    smoothing: float = 0.0
+
+    def shape(self, compression: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """g(c) and g'(c), arrays of shape (..., n_mesh)."""
+        c = compression
+        b = np.asarray(self.backlash, dtype=np.float64)
+        eps = float(self.smoothing)
+        finite = np.isfinite(b)
+        coast = np.where(finite, c + np.where(finite, b, 0.0), -np.inf)
+        if eps == 0.0:
+            g = np.maximum(c, 0.0) + np.where(finite, np.minimum(coast, 0.0), 0.0)
+            slope = (c > 0).astype(np.float64) + (coast < 0)
+            return g, slope
+        root = np.sqrt(c * c + eps * eps)
+        g = 0.5 * (c + root)
+        slope = 0.5 * (1 + c / root)
+        with np.errstate(invalid="ignore"):
+            root_b = np.sqrt(coast * coast + eps * eps)
+            g_b = np.where(finite, 0.5 * (coast - root_b), 0.0)
+            s_b = np.where(finite, 0.5 * (1 - coast / root_b), 0.0)
+        return g + g_b, slope + s_b
+
+
+def oscillator_system(
+    damping_ratio: float = 0.05,
+    mean_force: float = 0.1,
+    alternating_force: float = 0.0,
+    stiffness_variation: tuple[float, ...] = (),
+    samples: int = 1024,
+) -> ResponseSystem:
+    """The single-DOF spur pair of Kahraman & Singh (1990), nondimensional.
+
+    x'' + 2 zeta x' + k(t) g(x) = F_m + F_a cos(omega t), k(t) = 1 + sum_j alpha_j
+    cos(j omega t), unit mass and mean stiffness (natural frequency 1 rad/s), x the
+    dynamic transmission error along the line of action (positive pressing the drive
+    flanks).  ``speed`` in the response's datasets is then omega itself.
+
+    Parameters
+    ----------
+    damping_ratio : float
+        zeta.
+    mean_force, alternating_force : float
+        F_m and F_a (the external excitation, e.g. of a static transmission error).
+    stiffness_variation : tuple of float
+        alpha_1, alpha_2, ...: the mesh stiffness harmonics.
+    samples : int
+        Stiffness samples per period.
+    """
+    tau = np.arange(samples) / samples
+    k = np.ones(samples)
+    for j, alpha in enumerate(stiffness_variation, start=1):
+        k += alpha * np.cos(2 * math.pi * j * tau)
+    harmonic = None
+    if alternating_force:
+        harmonic = np.array([[0.5 * alternating_force]], dtype=complex)
+    return ResponseSystem(
+        eigenvalues=np.array([1.0]),
+        damping=np.array([[2.0 * damping_ratio]]),
+        mesh_rows=np.array([[1.0]]),
+        force=np.array([float(mean_force)]),
+        mean_stiffness=np.array([1.0]),
+        stiffness=k[:, None],
+        contact_sign=np.array([1], dtype=np.int64),
+        mesh_order=np.array([1], dtype=np.int64),
+        fundamental_per_rad_s=30.0 / (2 * math.pi**2),  # omega [rad/s] = speed [rpm]
+        names=["pair"],
+        stages=["pair"],
+        planets=[0],
+        modes=np.eye(1),
+        attrs={"case": "Kahraman-Singh oscillator", "drive_torque": float(mean_force)},
+        harmonic_force=harmonic,
+    )
+
+
+def _basis(harmonics: int, samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """Real synthesis E (samples, 2H+1) and analysis A (2H+1, samples) matrices over
+    [1, cos k theta, ..., sin k theta, ...], theta_n = 2 pi n / samples."""
+    theta = 2 * math.pi * np.arange(samples) / samples
+    k = np.arange(1, harmonics + 1)
+    phase = np.outer(theta, k)
+    synthesis = np.concatenate([np.ones((samples, 1)), np.cos(phase), np.sin(phase)], axis=1)
+    analysis = synthesis.T * (2.0 / samples)
+    analysis[0] *= 0.5
+    return synthesis, analysis
+
+
+def _resample(values: np.ndarray, count: int) -> np.ndarray:
+    """Periodic samples (N, ...) at ``count`` equally spaced instants (every N/count-th
+    sample, else by Fourier interpolation)."""
+    n = values.shape[0]
+    if n % count == 0:
+        return np.ascontiguousarray(values[:: n // count])
+    spectrum = np.fft.rfft(values, axis=0)
+    return np.fft.irfft(spectrum[: count // 2 + 1], count, axis=0) * count / n
+
+
+class BacklashProblem:
+    """The AFT residual (3) of a :class:`ResponseSystem` with a backlash law.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The linear model (its stiffness samples, receptances and loads).
+    law : BacklashLaw
+        The flank law of every mesh.
+    harmonics : int
+        H >= 1.
+    samples : int, optional
+        N, time samples of the AFT (default the power of two >= 8 (2H + 1)).
+    """
+
+    def __init__(
+        self,
+        system: ResponseSystem,
+        law: BacklashLaw,
+        harmonics: int,
+        samples: int | None = None,
+    ) -> None:
+        self.system = system
+        self.law = law
+        self.harmonics = h = int(harmonics)
+        if h < 1:
+            raise ValueError("the AFT balance needs at least one harmonic")
+        n = samples or 2 ** math.ceil(math.log2(8 * (2 * h + 1)))
+        if n <= 2 * h:
+            raise ValueError(f"{n} samples cannot resolve harmonic {h}")
+        self.samples = n
+        self.synthesis, self.analysis = _basis(h, n)
+        self.stiffness = _resample(np.asarray(system.stiffness, dtype=np.float64), n)
+        self.sign = np.asarray(system.contact_sign, dtype=np.float64)
+        self.n_mesh = system.mesh_rows.shape[0]
+        self._cache: tuple | None = None
+
+    @property
+    def size(self) -> int:
+        """Unknowns: n_mesh (2H + 1)."""
+        return self.n_mesh * (2 * self.harmonics + 1)
+
+    # -- frequency-domain operators ------------------------------------------------
+    def operators(self, omega: float) -> tuple[np.ndarray, ...]:
+        """Real receptance operator, load vector and their omega derivatives.
+
+        Returns
+        -------
+        gain, gain_dw : ndarray, shape (2H+1, n_mesh, 2H+1, n_mesh)
+            The real form of G_j acting on the real Fourier coefficients of r.
+        load, load_dw : ndarray, shape (2H+1, n_mesh)
+            Real Fourier coefficients of B D_j^-1 f_j.
+        """
+        if self._cache is not None and self._cache[0] == omega:
+            return self._cache[1]
+        s = self.system
+        h, nm = self.harmonics, self.n_mesh
+        rows, lam, c = s.mesh_rows, s.eigenvalues, s.damping
+        forcing = np.zeros((h + 1, lam.size), dtype=complex)
+        forcing[0] = s.force
+        if s.harmonic_force is not None:
+            extra = s.harmonic_force[:h]
+            forcing[1 : 1 + extra.shape[0]] = extra
+        j = np.arange(h + 1)[:, None, None]
+        ident = np.eye(lam.size)[None]
+        d = np.diag(lam)[None] - (j * omega) ** 2 * ident + 1j * j * omega * c[None]
+        d_dw = -2 * j * j * omega * ident + 1j * j * c[None]
+        right = np.concatenate(
+            [np.broadcast_to(rows.T, (h + 1, *rows.T.shape)), forcing[:, :, None]], axis=2
+        )
+        solved = np.linalg.solve(d, right)  # D_j^-1 [B^T, f_j]
+        solved_dw = -np.linalg.solve(d, d_dw @ solved)
+        both = rows[None] @ solved  # (h+1, n_mesh, n_mesh + 1)
+        both_dw = rows[None] @ solved_dw
+        gain = np.zeros((2 * h + 1, nm, 2 * h + 1, nm))
+        gain_dw = np.zeros_like(gain)
+        load = np.zeros((2 * h + 1, nm))
+        load_dw = np.zeros_like(load)
+        k = np.arange(1, h + 1)
+        for out, vec, mat in ((gain, load, both), (gain_dw, load_dw, both_dw)):
+            g, w = mat[:, :, :nm], mat[:, :, nm]
+            out[0, :, 0, :] = g[0].real
+            vec[0] = w[0].real
+            out[k, :, k, :] = g[1:].real
+            out[k, :, h + k, :] = g[1:].imag
+            out[h + k, :, k, :] = -g[1:].imag
+            out[h + k, :, h + k, :] = g[1:].real
+            vec[k], vec[h + k] = 2 * w[1:].real, -2 * w[1:].imag
+        result = (gain, gain_dw, load, load_dw)
+        self._cache = (omega, result)
+        return result
+
+    # -- time domain ---------------------------------------------------------------
+    def signals(self, x: np.ndarray, samples: int | None = None) -> tuple[np.ndarray, ...]:
+        """Mesh deflection, contact force and contact stiffness over one period.
+
+        Parameters
+        ----------
+        x : ndarray
+            Unknowns, flat or shape (2H+1, n_mesh).
+        samples : int, optional
+            Instants (default the AFT's N).
+
+        Returns
+        -------
+        deflection, force, slope : ndarray, shape (samples, n_mesh)
+            delta_m [m]; F_m = k_m g(s_m delta_m) [N], > 0 on the drive flank, < 0 on
+            the coast flank; k_m g'(c) [N/m].
+        """
+        coefficients = np.reshape(x, (2 * self.harmonics + 1, self.n_mesh))
+        if samples is None or samples == self.samples:
+            synthesis, stiffness = self.synthesis, self.stiffness
+        else:
+            synthesis = _basis(self.harmonics, samples)[0]
+            stiffness = _resample(np.asarray(self.system.stiffness, dtype=np.float64), samples)
+        deflection = synthesis @ coefficients
+        g, dg = self.law.shape(self.sign * deflection)
+        return deflection, stiffness * g, stiffness * dg
+
+    def residual(self, x: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """R(x, omega) of (3), dR/dx and dR/domega (flat, length :attr:`size`)."""
+        gain, gain_dw, load, load_dw = self.operators(omega)
+        deflection, force, slope = self.signals(x)
+        kbar = self.system.mean_stiffness
+        r = self.sign * force - kbar * deflection  # p - kbar delta along delta
+        r_coeff = self.analysis @ r  # (2H+1, n_mesh)
+        coefficients = np.reshape(x, r_coeff.shape)
+        res = coefficients + np.einsum("imjl,jl->im", gain, r_coeff) - load
+        tangent = self.analysis[:, None, :] * (slope - kbar).T[None]  # (2H+1, n_mesh, N)
+        local = tangent @ self.synthesis  # dr_coeff/dx per mesh
+        jac = np.einsum("imjl,jlk->imkl", gain, local)
+        size = self.size
+        jac = jac.reshape(size, size) + np.eye(size)
+        d_omega = np.einsum("imjl,jl->im", gain_dw, r_coeff) - load_dw
+        return res.reshape(-1), jac, d_omega.reshape(-1)
+
+    def multipliers(
+        self, x: np.ndarray, omega: float, segments: int = DEFAULT_SEGMENTS
+    ) -> np.ndarray:
+        """Floquet multipliers of the orbit x at omega, largest modulus first.
+
+        The variational equation's stiffness Lambda + B^T diag(k g'(c) - kbar) B is
+        averaged over each of ``segments`` intervals from 16 instants per interval
+        (the contact switches inside an interval enter through the mean).
+        """
+        count = segments * 16
+        _, _, slope = self.signals(x, count)
+        variation = segment_means(slope - self.system.mean_stiffness, segments)
+        rows = self.system.mesh_rows
+        stiffness = np.diag(self.system.eigenvalues)[None] + np.einsum(
+            "mi,sm,mj->sij", rows, variation, rows
+        )
+        return floquet_multipliers(stiffness, self.system.damping, 2 * math.pi / omega)
+
+    def static_guess(self) -> np.ndarray:
+        """The static deflection at mean stiffness as a start (harmonics 1..H zero)."""
+        x = np.zeros((2 * self.harmonics + 1, self.n_mesh))
+        x[0] = self.system.static_deflection()
+        return x.reshape(-1)
+
+    def from_hill(self, deflection: np.ndarray) -> np.ndarray:
+        """Unknowns from complex coefficients over -H'..H' (:class:`.hill.HillSolution`),
+        truncated or padded to H."""
+        centre = deflection.shape[0] // 2
+        h = self.harmonics
+        top = min(h, centre)
+        x = np.zeros((2 * h + 1, self.n_mesh))
+        x[0] = deflection[centre].real
+        x[1 : top + 1] = 2 * deflection[centre + 1 : centre + top + 1].real
+        x[h + 1 : h + top + 1] = -2 * deflection[centre + 1 : centre + top + 1].imag
+        return x.reshape(-1)
+
+
+def _point_record(problem: BacklashProblem, x: np.ndarray) -> dict:
+    """What the dataset keeps of one branch point."""
+    deflection, force, _ = problem.signals(x, SEPARATION_SAMPLES)
+    compression = problem.sign * deflection
+    backlash = np.asarray(problem.law.backlash, dtype=np.float64)
+    dte = deflection - deflection.mean(axis=0)
+    return {
+        "force_max": force.max(axis=0),
+        "force_min": force.min(axis=0),
+        "force_mean": force.mean(axis=0),
+        "dte_rms": np.sqrt((dte**2).mean(axis=0)),
+        "dte_pp": deflection.max(axis=0) - deflection.min(axis=0),
+        "deflection_mean": deflection.mean(axis=0),
+        "separation": (compression <= 0).any(axis=0),
+        "coast": (compression < -backlash).any(axis=0),
+    }
+
+
+def continue_response(
+    system: ResponseSystem,
+    law: BacklashLaw,
+    speeds: tuple[float, float],
+    *,
+    harmonics: int = 16,
+    samples: int | None = None,
+    step: float = 0.02,
+    step_max: float = 0.05,
+    tolerance: float = 1e-10,
+    stability: bool = True,
+    segments: int = DEFAULT_SEGMENTS,
+    max_points: int = 2000,
+    start: np.ndarray | None = None,
+) -> xr.Dataset:
+    """The periodic steady state with contact loss, continued in speed.
+
+    Newton's method finds the solution at the first speed (from ``start`` or the
+    static deflection), and pseudo-arclength continuation (:mod:`.continuation`)
+    follows it to the second, through every turning point.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The linear model.
+    law : BacklashLaw
+        The flank law of every mesh.
+    speeds : tuple of float
+        First and last input speed [rpm] (either order).
+    harmonics : int
+        H, harmonics of the fundamental balanced.
+    samples : int, optional
+        AFT instants per period.
+    step, step_max : float
+        First and largest arclength step, in deflections over the largest static mesh
+        deflection and frequencies over the first.
+    tolerance : float
+        Residual of every point over the largest static mesh deflection.
+    stability : bool
+        Floquet multipliers of every point (the contact state's stiffness per instant).
+    segments : int
+        Intervals of constant stiffness of the monodromy.
+    max_points : int
+        Branch points at most.
+    start : ndarray, optional
+        Unknowns at the first speed to start Newton from.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``point`` and ``mesh``: ``speed``, ``frequency``, mesh force max / min /
+        mean, DTE RMS and peak to peak, ``separation`` and ``coast_contact`` flags,
+        ``floquet_multiplier``, ``stable``, ``turning`` (+1 where an up sweep jumps
+        off the branch, -1 where a down sweep does, at the point before the fold); the
+        attributes ``up_sweep_jumps`` and ``down_sweep_jumps`` [rpm] list the folds.
+    """
+    started = time.perf_counter()
+    problem = BacklashProblem(system, law, harmonics, samples)
+    w0, w1 = system.omega(float(speeds[0])), system.omega(float(speeds[1]))
+    scale = float(np.abs(system.static_deflection()).max())
+    if not scale > 0:
+        raise ValueError("the system carries no static mesh load to scale the deflections")
+    with _thread_limit():
+        branch = continue_branch(
+            problem.residual,
+            problem.static_guess() if start is None else start,
+            w0,
+            w1,
+            x_scale=scale,
+            p_scale=w0,
+            step=step,
+            step_max=step_max,
+            tolerance=tolerance,
+            max_points=max_points,
+        )
+        records = [_point_record(problem, x) for x in branch.states]
+        multiplier = np.full(branch.parameter.size, np.nan)
+        if stability:
+            for i, (x, w) in enumerate(zip(branch.states, branch.parameter)):
+                multiplier[i] = float(np.abs(problem.multipliers(x, w, segments)[0]))
+    per_rpm = system.omega(1.0)
+    turning = np.zeros(branch.parameter.size, dtype=np.int8)
+    for fold in branch.turning:
+        turning[fold["index"]] = fold["kind"]
+    wall = time.perf_counter() - started
+    return _dataset(system, problem, branch, records, multiplier, turning, per_rpm, wall)
+
+
+def _thread_limit() -> contextlib.AbstractContextManager:
+    """One BLAS thread: the matrices are small, and two threads on a shared machine
+    slow their factorisations down (as in :mod:`.sweep`)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - a dependency
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
+def _dataset(
+    system: ResponseSystem,
+    problem: BacklashProblem,
+    branch: Branch,
+    records: list[dict],
+    multiplier: np.ndarray,
+    turning: np.ndarray,
+    per_rpm: float,
+    wall: float,
+) -> xr.Dataset:
+    """The branch as an ``xarray.Dataset`` (see :func:`continue_response`)."""
+
+    def stack(key: str) -> np.ndarray:
+        return np.array([r[key] for r in records])
+
+    per_mesh = ("point", "mesh")
+    speed = branch.parameter / per_rpm
+    data = {
+        "speed": ("point", speed, {"units": "rpm", "long_name": "input member speed"}),
+        "frequency": ("point", branch.parameter,
+                      {"units": "rad/s", "long_name": "fundamental angular frequency"}),
+        "arclength": ("point", branch.arclength,
+                      {"units": "1", "long_name": "scaled arclength along the branch"}),
+        "mesh_force_max": (per_mesh, stack("force_max"),
+                           {"units": "N", "long_name": "largest contact force over a period"}),
+        "mesh_force_min": (per_mesh, stack("force_min"),
+                           {"units": "N", "long_name": "smallest contact force over a period "
+                            "(< 0 on the coast flank)"}),
+        "mesh_force_mean": (per_mesh, stack("force_mean"),
+                            {"units": "N", "long_name": "mean contact force"}),
+        "dte_rms": (per_mesh, stack("dte_rms"),
+                    {"units": "m", "long_name": "dynamic transmission error, RMS about its "
+                     "mean along the line of action"}),
+        "dte_peak_to_peak": (per_mesh, stack("dte_pp"),
+                             {"units": "m", "long_name": "dynamic transmission error, peak "
+                              "to peak"}),
+        "separation": (per_mesh, stack("separation").astype(np.int8),
+                       {"units": "1", "long_name": "1 where the drive flanks part in the "
+                        "period"}),
+        "coast_contact": (per_mesh, stack("coast").astype(np.int8),
+                          {"units": "1", "long_name": "1 where the coast flanks meet in "
+                           "the period (back-side impact)"}),
+        "floquet_multiplier": ("point", multiplier,
+                               {"units": "1", "long_name": "largest Floquet multiplier "
+                                "modulus of the linearised periodic system"}),
+        "stable": ("point", (multiplier < 1.0).astype(np.int8),
+                   {"units": "1", "long_name": "1 where every Floquet multiplier lies "
+                    "inside the unit circle"}),
+        "turning": ("point", turning,
+                    {"units": "1", "long_name": "+1 before a fold where an up sweep jumps, "
+                     "-1 before one where a down sweep jumps"}),
+        "iterations": ("point", branch.iterations.astype(np.int32),
+                       {"units": "1", "long_name": "Newton corrector iterations"}),
+    }  # fmt: skip
+    coords = {
+        "point": ("point", np.arange(speed.size, dtype=np.int32), {"long_name": "branch point"}),
+        "mesh": ("mesh", np.array(system.names, dtype=object), {"long_name": "mesh"}),
+    }
+    folds = [(f["parameter"] / per_rpm, f["kind"]) for f in branch.turning]
+    attrs = {
+        **system.attrs,
+        "method": "AFT harmonic balance with the flank law, pseudo-arclength continuation "
+        "in speed, Floquet multipliers of the contact state's stiffness",
+        "harmonics": problem.harmonics,
+        "aft_samples": problem.samples,
+        "backlash": np.asarray(problem.law.backlash, dtype=np.float64),
+        "smoothing": float(problem.law.smoothing),
+        "up_sweep_jumps": np.array([s for s, k in folds if k > 0]),
+        "down_sweep_jumps": np.array([s for s, k in folds if k < 0]),
+        "finished": int(branch.finished),
+        "wall_s": wall,
+    }
+    return xr.Dataset(data, coords, attrs)
