@@ -47,8 +47,8 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     )
     response.add_argument(
         "--tolerance",
-        default="1e-3",
-        help="residual the automatic harmonic count reaches (default 1e-3)",
+        default="5e-3",
+        help="residual the automatic harmonic count reaches (default 5e-3)",
     )
     response.add_argument(
         "--pin-error",

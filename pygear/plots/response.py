@@ -3,8 +3,8 @@
 - :func:`plot_dynamic_factor`: K_v of every mesh against the input speed, the speeds at
   which the mesh frequency meets a natural frequency marked (darker for modes storing
   more of their energy in the meshes), and ISO 6336-1's resonance ranges of the main
-  mesh mode shaded: subcritical N < 0.85, main resonance 0.85 <= N <= 1.15,
-  supercritical N > 1.15;
+  mesh mode shaded: subcritical N <= 0.85, main resonance 0.85 < N <= 1.15,
+  intermediate 1.15 < N < 1.5, supercritical N >= 1.5;
 - :func:`plot_load_sharing`: K_gamma of every planetary stage (mean and peak forces);
 - :func:`plot_stability`: the largest Floquet multiplier modulus, unstable speeds shaded.
 """
@@ -25,9 +25,12 @@ DPI = 130
 ISO_RANGES = (
     ("subcritical", 0.0, 0.85, "#e8f1fb"),
     ("main resonance", 0.85, 1.15, "#fde3d9"),
-    ("supercritical", 1.15, np.inf, "#eef7e8"),
+    ("intermediate", 1.15, 1.5, "#f6f0dc"),
+    ("supercritical", 1.5, np.inf, "#eef7e8"),
 )
-"""ISO 6336-1 (6.3) ranges of the resonance ratio N = n / n_E1, and their shading."""
+"""ISO 6336-1 (method B) ranges of the resonance ratio N = n / n_E1, and their shading;
+the lower limit of the main resonance is N_S = 0.85 (the standard's value for line loads
+of 100 N/mm and more; lighter loads lower it)."""
 
 MARKED_SHARE = 0.01
 """Resonance speeds of modes with at least this mesh energy share are marked."""

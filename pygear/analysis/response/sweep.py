@@ -46,9 +46,10 @@ __all__ = [
     "sweep_system",
 ]
 
-DEFAULT_TOLERANCE = 1e-3
-"""Residual the automatic harmonic count reaches (the dynamic factor then moves by
-about 1e-4 when the count doubles: the study case at 400-1000 rpm)."""
+DEFAULT_TOLERANCE = 5e-3
+"""Residual the automatic harmonic count reaches.  On the study case the mesh forces then
+lie within about 0.5 % of the largest (the error runs at 0.4-0.9 times the residual
+against a time integration), at 32-128 harmonics; 1e-3 costs 128 at most speeds."""
 
 COVER_SHARE = 0.01
 """Modes storing at least this share of their strain energy in the meshes are the ones a
