@@ -17,12 +17,35 @@ zero-frequency rigid-body modes.  The shift is therefore negative, sigma =
 -(2 pi shift_hz)^2: K - sigma M = K + |sigma| M is then positive definite for any
 positive semidefinite K and positive definite M, and the rigid modes are found at 0 Hz
 like the others.
+
+**Where the shift goes.**  Lanczos converges on the transformed eigenvalues
+theta = 1 / (omega^2 + |sigma|) at a rate set by their relative gaps.  While |sigma| stays
+below the lowest wanted omega^2 those gaps are the gaps of 1 / omega^2 (wide: 8 modes take
+about 30 solves); once |sigma| is far above them every wanted theta is about 1 / |sigma|
+and the gaps shrink as (omega_j^2 - omega_i^2) / |sigma|.  The shift is therefore taken
+as small as the factorization allows: |sigma| = SHIFT_FRACTION^2 median(K_ii / M_ii),
+about 5e3 unit roundoffs of the stiffness scale, which keeps the pivots of the rigid
+directions (|sigma| times a mass) above the Cholesky rounding of K (u times a stiffness
+entry).  A diagonal ratio grows as 1 / h^2 when the shafts are meshed finer (h the element
+length) while the lowest modes stay put, so a shift proportional to it must be a tiny
+fraction: the earlier 1e-4 of the reference frequency put the shift at 116 Hz for a
+24 000-DOF drivetrain whose modes of interest lie at 1.7 Hz (460 solves, 30-70 s on a
+loaded machine) and at 580 Hz for 120 000 DOFs, which did not converge.  Should CHOLMOD
+meet a non-positive pivot at the default shift, |sigma| grows a hundredfold and the
+factorization is retried.
+
+**Threads.**  ARPACK's own work per step is level-2 BLAS on an n x ncv panel (ncv about
+2k); threads gain nothing there and, on a machine whose cores are busy, OpenBLAS threads
+waiting for each other made each step about 50 times slower than one thread (10 ms
+against 0.2 ms at 24 000 DOFs).  The Lanczos iteration runs with one BLAS thread.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import logging
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
@@ -31,7 +54,11 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ...kernel.sparse_cholesky import SparseCholesky, sparse_cholesky_available
+from ...kernel.sparse_cholesky import (
+    NotPositiveDefiniteError,
+    SparseCholesky,
+    sparse_cholesky_available,
+)
 
 __all__ = ["SparseModes", "sparse_modes"]
 
@@ -41,11 +68,19 @@ DENSE_LIMIT = 200
 """Models of at most this many DOFs (or requests for nearly all their modes) are solved
 densely by scipy.linalg.eigh: Lanczos needs k < n - 1 and gains nothing there."""
 
-SHIFT_FRACTION = 1e-4
-"""Default |shift| as a fraction of the model's reference frequency sqrt(median(K_ii /
-M_ii)) / 2 pi: small enough to leave the lowest modes nearest the shift (fast Lanczos
-convergence), large enough that K - sigma M keeps a condition number near 1e8 or below
-on a free structure (|sigma| ~ 1e-8 of the diagonal ratio)."""
+SHIFT_FRACTION = 1e-6
+"""Default shift_hz as a fraction of the model's reference frequency sqrt(median(K_ii /
+M_ii)) / 2 pi, so |sigma| = 1e-12 median(K_ii / M_ii), about 4.5e3 u: far enough above
+the rounding of the rigid directions' pivots that CHOLMOD factors a free structure (a
+free spring chain breaks down near 1e-18, i.e. 5e-3 u), and below the lowest elastic
+omega^2 of models up to f_1 / f_ref = 1e-6 (the NREL drivetrain meshed to 24 000 DOFs:
+2e-6; to 120 000: 4e-7, where |sigma| is 11 omega_1^2 and 8 modes still take 41 solves).
+The former 1e-4 left the shift far above the lowest modes of finely meshed models
+(module docstring)."""
+
+SHIFT_RETRIES = 2
+"""Times the default shift grows (shift_hz by 10, |sigma| by 100) while CHOLMOD meets a
+non-positive pivot; the last try is the former SHIFT_FRACTION, 1e-4."""
 
 FIRST_REQUEST = 12
 """Modes asked for first when only ``below_hz`` is given; doubled until enough."""
@@ -68,12 +103,17 @@ class SparseModes:
         or "dense".
     shift_hz : float
         The shift used, sigma = -(2 pi shift_hz)^2 [Hz].
+    solves : int
+        Applications of (K - sigma M)^-1 by the Lanczos iterations (every request of a
+        ``below_hz`` search summed); 0 for the dense solver.  ARPACK's cost is this count
+        times a solve plus its own orthogonalization per step.
     """
 
     frequencies_hz: np.ndarray
     shapes: np.ndarray
     solver: str
     shift_hz: float
+    solves: int = 0
 
     def __iter__(self) -> Iterator[np.ndarray]:
         yield self.frequencies_hz
@@ -112,24 +152,60 @@ def _default_shift_hz(stiffness: sp.csc_matrix, mass: sp.csc_matrix) -> float:
     return SHIFT_FRACTION * float(reference)
 
 
+class _CountingInverse(spla.LinearOperator):
+    """(K - sigma M)^-1 as ARPACK's OPinv, counting the right-hand sides it solves."""
+
+    def __init__(self, solve: Callable[[np.ndarray], np.ndarray], n: int) -> None:
+        super().__init__(np.dtype(np.float64), (n, n))
+        self._solve = solve
+        self.solves = 0
+
+    def _matvec(self, x: np.ndarray) -> np.ndarray:
+        self.solves += 1
+        return self._solve(x)
+
+    def _matmat(self, x: np.ndarray) -> np.ndarray:
+        self.solves += x.shape[1]
+        return self._solve(x)
+
+
 def _shifted_inverse(
     shifted: sp.csc_matrix, factorization: str
-) -> tuple[spla.LinearOperator, str, SparseCholesky | None]:
-    """A LinearOperator applying (K - sigma M)^-1, the factorization's name, and the
-    CHOLMOD factor to close (None with SuperLU)."""
+) -> tuple[_CountingInverse, str, SparseCholesky | None]:
+    """A counting LinearOperator applying (K - sigma M)^-1, the factorization's name, and
+    the CHOLMOD factor to close (None with SuperLU).  NotPositiveDefiniteError when
+    CHOLMOD meets a non-positive pivot."""
     n = shifted.shape[0]
     if factorization == "splu":
-        lu = spla.splu(shifted)
-        operator = spla.LinearOperator((n, n), matvec=lu.solve, matmat=lu.solve)
-        return operator, "splu", None
+        return _CountingInverse(spla.splu(shifted).solve, n), "splu", None
     if sparse_cholesky_available():
         factor = SparseCholesky(shifted, name="stiffness - shift * mass")
-        operator = spla.LinearOperator((n, n), matvec=factor.solve, matmat=factor.solve)
-        return operator, "cholmod", factor
+        return _CountingInverse(factor.solve, n), "cholmod", factor
     _log.info("CHOLMOD not available: factoring K - sigma M with scipy's splu")
-    lu = spla.splu(shifted)
-    operator = spla.LinearOperator((n, n), matvec=lu.solve, matmat=lu.solve)
-    return operator, "splu (CHOLMOD not available: install libsuitesparse-dev)", None
+    return (
+        _CountingInverse(spla.splu(shifted).solve, n),
+        "splu (CHOLMOD not available: install libsuitesparse-dev)",
+        None,
+    )
+
+
+@functools.cache
+def _blas_controller() -> object | None:
+    """threadpoolctl's view of the loaded BLAS libraries, found once (a search of the
+    loaded libraries takes milliseconds, a small model's whole Lanczos)."""
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover - a dependency
+        return None
+    return ThreadpoolController()
+
+
+def _one_blas_thread() -> contextlib.AbstractContextManager:
+    """One BLAS thread for ARPACK's steps (module docstring, Threads)."""
+    controller = _blas_controller()
+    if controller is None:  # pragma: no cover - a dependency
+        return contextlib.nullcontext()
+    return controller.limit(limits=1, user_api="blas")
 
 
 def _dense_modes(stiffness: sp.csc_matrix, mass: sp.csc_matrix) -> tuple[np.ndarray, np.ndarray]:
@@ -162,8 +238,9 @@ def sparse_modes(
         Return exactly the modes below this frequency [Hz]: the request grows (doubling)
         until the highest mode found lies above it.
     shift_hz : float, optional
-        Shift sigma = -(2 pi shift_hz)^2 [Hz], > 0.  Default: SHIFT_FRACTION of
-        sqrt(median(K_ii / M_ii)) / 2 pi.
+        Shift sigma = -(2 pi shift_hz)^2 [Hz], > 0, used as given.  Default:
+        SHIFT_FRACTION of sqrt(median(K_ii / M_ii)) / 2 pi, grown tenfold (at most
+        SHIFT_RETRIES times) while CHOLMOD meets a non-positive pivot.
     factorization : {"auto", "splu"}
         How K - sigma M is factored: CHOLMOD when the kernel has it (else SuperLU), or
         SuperLU (scipy.sparse.linalg.splu) in any case, for comparisons.
@@ -180,6 +257,9 @@ def sparse_modes(
         Matrices that are not square or not of one size, neither ``modes`` nor
         ``below_hz`` given, a non-positive count, limit or shift, or an unknown
         factorization.
+    NotPositiveDefiniteError
+        K - sigma M is not positive definite at a given shift, or at the last default
+        one (K not positive semidefinite, or M not positive definite).
     """
     if factorization not in ("auto", "splu"):
         raise ValueError(f"factorization must be 'auto' or 'splu', not {factorization!r}")
@@ -191,46 +271,71 @@ def sparse_modes(
         raise ValueError(f"modes must be between 1 and the {n} DOFs, not {modes}")
     if below_hz is not None and not (np.isfinite(below_hz) and below_hz > 0):
         raise ValueError(f"below_hz must be a positive frequency, not {below_hz}")
+    default_shift = shift_hz is None
     if shift_hz is None:
         shift_hz = _default_shift_hz(k_matrix, m_matrix)
     elif not (np.isfinite(shift_hz) and shift_hz > 0):
         raise ValueError(
             f"shift_hz must be positive (the shift is -(2 pi shift_hz)^2), not {shift_hz}"
         )
-    sigma = -((2 * np.pi * shift_hz) ** 2)
     request = modes if modes is not None else min(FIRST_REQUEST, n)
+    solves = 0
 
     if n <= DENSE_LIMIT:
         eigenvalues, shapes = _dense_modes(k_matrix, m_matrix)
         solver = "dense"
     else:
-        shifted = (k_matrix - sigma * m_matrix).tocsc()
-        operator, solver, factor = _shifted_inverse(shifted, factorization)
+        for attempt in range(SHIFT_RETRIES + 1):
+            sigma = -((2 * np.pi * shift_hz) ** 2)
+            try:
+                operator, solver, factor = _shifted_inverse(
+                    (k_matrix - sigma * m_matrix).tocsc(), factorization
+                )
+                break
+            except NotPositiveDefiniteError:
+                if not default_shift or attempt == SHIFT_RETRIES:
+                    raise
+                _log.info(
+                    "K - sigma M not positive definite at shift %.3g Hz: retrying at %.3g Hz",
+                    shift_hz,
+                    10 * shift_hz,
+                )
+                shift_hz *= 10  # |sigma| x 100
         start = np.random.default_rng(0).standard_normal(n)  # reproducible Lanczos start
         try:
-            while True:
-                if request >= n - 1:
-                    eigenvalues, shapes = _dense_modes(k_matrix, m_matrix)
-                    solver = "dense"
-                    break
-                eigenvalues, shapes = spla.eigsh(
-                    k_matrix,
-                    k=request,
-                    M=m_matrix,
-                    sigma=sigma,
-                    which="LM",
-                    OPinv=operator,
-                    v0=start,
-                )
-                order = np.argsort(eigenvalues)
-                eigenvalues, shapes = eigenvalues[order], shapes[:, order]
-                highest_hz = np.sqrt(max(eigenvalues[-1], 0.0)) / (2 * np.pi)
-                if below_hz is None or highest_hz > below_hz:
-                    break
-                request = min(2 * request, n - 1)
+            with _one_blas_thread():
+                while True:
+                    if request >= n - 1:
+                        eigenvalues, shapes = _dense_modes(k_matrix, m_matrix)
+                        solver = "dense"
+                        break
+                    eigenvalues, shapes = spla.eigsh(
+                        k_matrix,
+                        k=request,
+                        M=m_matrix,
+                        sigma=sigma,
+                        which="LM",
+                        OPinv=operator,
+                        v0=start,
+                    )
+                    order = np.argsort(eigenvalues)
+                    eigenvalues, shapes = eigenvalues[order], shapes[:, order]
+                    highest_hz = np.sqrt(max(eigenvalues[-1], 0.0)) / (2 * np.pi)
+                    if below_hz is None or highest_hz > below_hz:
+                        break
+                    request = min(2 * request, n - 1)
         finally:
+            solves = operator.solves
             if factor is not None:
                 factor.close()
+        _log.debug(
+            "shift-invert Lanczos: %d DOFs, %d modes, shift %.3g Hz, %d solves (%s)",
+            n,
+            request,
+            shift_hz,
+            solves,
+            solver,
+        )
 
     frequencies = np.sqrt(np.clip(eigenvalues, 0.0, None)) / (2 * np.pi)
     if below_hz is not None:
@@ -242,4 +347,5 @@ def sparse_modes(
         shapes=np.ascontiguousarray(shapes[:, keep]),
         solver=solver,
         shift_hz=float(shift_hz),
+        solves=solves,
     )
