@@ -53,8 +53,9 @@ def load_spectrum_from_series(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(force levels [N], tooth load cycles) of a mesh-force record.
 
-    Each sample stands for its time step; a bin's cycles are its time times the tooth
-    contact frequency [Hz] (ISO 6336-6's counting of the load at each contact).  Levels
+    Each sample stands for half the interval to each neighbour; a bin's cycles are its
+    time times the tooth contact frequency [Hz] (ISO 6336-6's counting of the load at
+    each contact).  Levels
     are the bins' upper edges, so every cycle is counted at a load it never exceeds.
     """
     t = np.asarray(time, dtype=float)
@@ -67,7 +68,10 @@ def load_spectrum_from_series(
         raise CaseError("time must increase strictly")
     if not (math.isfinite(contact_frequency) and contact_frequency > 0.0):
         raise CaseError(f"contact_frequency must be > 0 Hz (got {contact_frequency})")
-    step = np.gradient(t)
+    step = np.empty_like(t)  # each sample stands for half the interval on each side
+    step[1:-1] = 0.5 * (t[2:] - t[:-2])
+    step[0] = 0.5 * (t[1] - t[0])
+    step[-1] = 0.5 * (t[-1] - t[-2])
     edges = np.linspace(0.0, float(f.max()) * (1.0 + 1e-12), bins + 1)
     index = np.clip(np.searchsorted(edges, f, side="left") - 1, 0, bins - 1)
     time_in = np.bincount(index, weights=step, minlength=bins)
