@@ -10,6 +10,7 @@ import importlib
 import inspect
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -183,3 +184,48 @@ def test_pip_install_of_a_clean_clone_runs_the_named_cases(tmp_path):
         f"\nclone and venv {prepared - started:.0f} s, pip install . "
         f"{installed - prepared:.0f} s, commands {finished - installed:.0f} s"
     )
+
+
+# --- set-up by task (Makefile, scripts/setup.sh) ----------------------------------------
+
+
+def _make_dry_run(target: str, tmp_path: Path) -> str:
+    """The commands ``make TARGET`` would run for a venv that does not exist yet."""
+    result = subprocess.run(
+        ["make", "-n", target, f"VENV={tmp_path / 'venv'}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return result.stdout
+
+
+@pytest.mark.parametrize(
+    ("target", "levels"),
+    [
+        ("run", ["runtime"]),
+        ("test", ["runtime", "test"]),
+        ("lint", ["runtime", "test"]),
+        ("docs", ["runtime", "docs"]),
+        ("setup", ["runtime", "test", "docs"]),
+    ],
+)
+def test_each_make_target_sets_up_only_its_levels(target, levels, tmp_path):
+    """``make run`` installs the runtime alone; the test and docs tools come with the
+    targets that use them, each level once (a stamp per level)."""
+    planned = re.findall(r"scripts/setup\.sh (\w+)", _make_dry_run(target, tmp_path))
+    assert planned == levels
+
+
+def test_setup_refuses_an_unknown_level(tmp_path):
+    """A mistyped level stops before anything is installed."""
+    result = subprocess.run(
+        ["bash", str(ROOT / "scripts" / "setup.sh"), "everything"],
+        env={**os.environ, "VENV": str(tmp_path / "venv")},
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 2
+    assert "unknown level" in result.stderr
+    assert not (tmp_path / "venv").exists()
