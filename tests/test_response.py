@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -140,3 +141,28 @@ def test_dynamic_factor_is_one_at_constant_stiffness():
     assert np.abs(dataset.load_sharing.values - 1).max() < 1e-12
     assert not dataset.separation.values.any()
     assert (dataset.dte_rms.values < 1e-12 * dataset.dte_peak_to_peak.values.max() + 1e-20).all()
+
+
+def test_bearing_forces_balance_the_mesh_forces():
+    """At constant stiffness the state is static: a symmetric stage's central members
+    carry no net radial force (their bearings none), and each planet pin balances its two
+    mesh forces, equal in magnitude (planet torque balance) and inclined by the pressure
+    angle to the tangent on either side: |F_pin| = 2 F_mesh cos(alpha).  Tolerance 1e-9
+    of the pin force: the translations of the planar model round at that level."""
+    case = load_case("yang2016_planetary")
+    dataset = forced_response(case, [500.0], time_varying=False, stability=False)
+    alpha = case.gearbox.stages[0].sun_mesh.pressure_angle
+    force = dataset.bearing_force_max.isel(speed=0)
+    names = [str(b) for b in dataset.bearing.values]
+    pins = [b for b in names if re.search(r"\.planet\d+_bearing$", b)]
+    central = [b for b in names if b not in pins]
+    assert len(pins) == 3 and len(central) == 3
+    mesh = float(dataset.mesh_force_mean.sel(mesh="sun-planet1", speed=500.0))
+    assert float(dataset.mesh_force_mean.sel(mesh="ring-planet1", speed=500.0)) == (
+        pytest.approx(mesh, rel=1e-9)
+    )
+    expected = 2 * mesh * math.cos(alpha)
+    for pin in pins:
+        assert float(force.sel(bearing=pin)) == pytest.approx(expected, rel=1e-9)
+    for member in central:
+        assert float(force.sel(bearing=member)) < 1e-9 * expected
