@@ -9,6 +9,7 @@ standard's units (N, mm, N/mm^2, um, 1/min, m/s).
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -130,9 +131,11 @@ def planet_reduced_masses(
     return 1.0 / (1.0 / m_p + planets / m_s), m_p
 
 
+@functools.lru_cache(maxsize=256)
 def _stiffness(mesh: geo.MeshGeometry) -> tuple[float, float, str]:
     """(c', c_gamma_alpha, note) by ISO 6336-1 method B with the larger shift first (the
-    q' regression's order), else ISO's c' = 14 N/(mm um)."""
+    q' regression's order), else ISO's c' = 14 N/(mm um); cached per mesh geometry (a
+    duty cycle re-rates the same meshes once per bin)."""
     from ...assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
 
     pair = mesh
@@ -150,6 +153,10 @@ def _stiffness(mesh: geo.MeshGeometry) -> tuple[float, float, str]:
         eps = geo.transverse_contact_ratio(mesh)
         single = FALLBACK_SINGLE_STIFFNESS
         return single, single * (0.75 * eps + 0.25), "c' = 14 N/(mm um), q' out of range"
+
+
+_tooth_form = functools.lru_cache(maxsize=256)(tooth_form)
+"""Y_F, Y_S per (gear, eps_alpha), cached like :func:`_stiffness`."""
 
 
 def _hardened(material: Material) -> bool:
@@ -292,7 +299,7 @@ def rate_pair(load: PairLoad) -> PairRating:
         entry["S_H"] = _computed(strength_h * entry["Z_NT"].value / sigma_h,
                                  "ISO 6336-2:2019 cl. 5 (S_H = sigma_HG / sigma_H)")
         # --- part 3: root --------------------------------------------------------
-        form = tooth_form(gear, eps_a)
+        form = _tooth_form(gear, eps_a)
         entry["Y_F"] = _computed(form.Y_F, "Y_F")
         entry["Y_S"] = _computed(form.Y_S, "Y_S")
         entry["Y_beta"] = _computed(iso.helix_angle_factor_root(eps_b, beta), "Y_beta")
