@@ -87,18 +87,17 @@ class BacklashLaw:
         b = np.asarray(self.backlash, dtype=np.float64)
         eps = float(self.smoothing)
         finite = np.isfinite(b)
-        coast = np.where(finite, c + np.where(finite, b, 0.0), -np.inf)
+        coast = c + np.where(finite, b, 0.0)  # c + b_m, used only where b_m is finite
         if eps == 0.0:
             g = np.maximum(c, 0.0) + np.where(finite, np.minimum(coast, 0.0), 0.0)
-            slope = (c > 0).astype(np.float64) + (coast < 0)
+            slope = (c > 0).astype(np.float64) + (finite & (coast < 0))
             return g, slope
         root = np.sqrt(c * c + eps * eps)
         g = 0.5 * (c + root)
         slope = 0.5 * (1 + c / root)
-        with np.errstate(invalid="ignore"):
-            root_b = np.sqrt(coast * coast + eps * eps)
-            g_b = np.where(finite, 0.5 * (coast - root_b), 0.0)
-            s_b = np.where(finite, 0.5 * (1 - coast / root_b), 0.0)
+        root_b = np.sqrt(coast * coast + eps * eps)
+        g_b = np.where(finite, 0.5 * (coast - root_b), 0.0)
+        s_b = np.where(finite, 0.5 * (1 - coast / root_b), 0.0)
         return g + g_b, slope + s_b
 
 
@@ -515,6 +514,10 @@ def _dataset(
         "turning": ("point", turning,
                     {"units": "1", "long_name": "+1 before a fold where an up sweep jumps, "
                      "-1 before one where a down sweep jumps"}),
+        "deflection_coefficients": (("point", "term", "mesh"),
+                                    branch.states.reshape(speed.size, -1, len(system.names)),
+                                    {"units": "m", "long_name": "real Fourier coefficients of "
+                                     "the mesh deflection: a_0, a_1..a_H (cos), b_1..b_H (sin)"}),
         "iterations": ("point", branch.iterations.astype(np.int32),
                        {"units": "1", "long_name": "Newton corrector iterations"}),
     }  # fmt: skip

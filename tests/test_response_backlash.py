@@ -1,0 +1,325 @@
+"""Contact loss and backlash in the steady-state response (AFT harmonic balance with
+pseudo-arclength continuation), against Hill's linear balance, long time integrations
+sweeping the frequency up and down, and finite-difference monodromies of the flow."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.integrate
+
+from pygear import Bearing, Case, Gear, Gearbox, Mesh, ParallelStage, RayleighDamping, Scene
+from pygear.analysis.response import response_system, solve_hill
+from pygear.analysis.response.continuation import newton
+from pygear.analysis.response.nonlinear import (
+    BacklashLaw,
+    BacklashProblem,
+    continue_response,
+    oscillator_system,
+)
+
+# Kahraman & Singh (1990) single-DOF spur pair, nondimensional: unit mass and mean
+# stiffness, x'' + 2 ZETA x' + g(x) = F_M + F_A cos(omega t), gap GAP (their 2b).
+ZETA, F_M, F_A, GAP = 0.05, 0.1, 0.02, 2.0
+HARMONICS = 16
+BAND = (0.77, 0.95)
+STEP = 0.0025
+"""Frequency step of the stepped-sine time sweeps [rad/s]."""
+SETTLE = 30
+"""Periods at each frequency of the sweep: the free decay exp(-ZETA omega t) falls by
+exp(-2 pi ZETA 30 omega) < 1e-3 over them, so the sweep tracks each stable branch to
+well below the 1e-3 checked on amplitudes."""
+STEPS_PER_PERIOD = 128
+
+
+def _acceleration(t: float, x: float, v: float, w: float) -> float:
+    g = x if x > 0 else (x + GAP if x < -GAP else 0.0)  # pygear's flank law, drive side at 0
+    return F_M + F_A * math.cos(w * t) - 2 * ZETA * v - g
+
+
+def _periods(x: float, v: float, w: float, count: int) -> tuple[float, float, float]:
+    """``count`` periods of classical RK4 with a fixed step locked to the period (each
+    period starts at phase 0); returns the state and the peak-to-peak of x over the last
+    period."""
+    h = 2 * math.pi / w / STEPS_PER_PERIOD
+    lo, hi = math.inf, -math.inf
+    acc = _acceleration
+    for p in range(count):
+        for n in range(STEPS_PER_PERIOD):
+            t = n * h
+            a1 = acc(t, x, v, w)
+            x2, v2 = x + 0.5 * h * v, v + 0.5 * h * a1
+            a2 = acc(t + 0.5 * h, x2, v2, w)
+            x3, v3 = x + 0.5 * h * v2, v + 0.5 * h * a2
+            a3 = acc(t + 0.5 * h, x3, v3, w)
+            x4, v4 = x + h * v3, v + h * a3
+            a4 = acc(t + h, x4, v4, w)
+            x += h / 6 * (v + 2 * v2 + 2 * v3 + v4)
+            v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+            if p == count - 1:
+                lo, hi = min(lo, x), max(hi, x)
+    return x, v, hi - lo
+
+
+@pytest.fixture(scope="module")
+def time_sweeps() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Stepped-sine sweeps up then down through BAND, each frequency starting from the
+    state the previous one left (a slow sweep, as on a test rig)."""
+    up = BAND[0] + STEP * np.arange(round((BAND[1] - BAND[0]) / STEP) + 1)
+    x, v, _ = _periods(F_M, 0.0, up[0], 150)
+    out = {}
+    for name, frequencies in (("up", up), ("down", up[::-1])):
+        amplitude = np.empty(frequencies.size)
+        for i, w in enumerate(frequencies):
+            x, v, amplitude[i] = _periods(x, v, float(w), SETTLE)
+        out[name] = (frequencies, amplitude)
+    return out
+
+
+@pytest.fixture(scope="module")
+def branch():
+    system = oscillator_system(ZETA, F_M, F_A)
+    law = BacklashLaw(np.array([GAP]))
+    dataset = continue_response(system, law, (0.7, 1.0), harmonics=HARMONICS)
+    return system, law, dataset
+
+
+def _jump(frequencies: np.ndarray, amplitude: np.ndarray) -> float:
+    """First frequency of a sweep whose peak-to-peak left the previous one's branch (a
+    change over a quarter of the range; a step on a branch changes it by < 1 %)."""
+    change = np.abs(np.diff(amplitude))
+    return float(frequencies[1:][np.argmax(change > 0.25 * np.ptp(amplitude))])
+
+
+def test_jumps_match_time_integration_sweeps(branch, time_sweeps):
+    """The continuation's folds are the jump frequencies of the slow sweeps.
+
+    An up sweep leaves the lower branch at its fold: the jump shows at the first sweep
+    frequency past it, so the fold lies within one step STEP below the jump; near a
+    saddle-node the orbit lingers (slow passage), so the jump may show one step later
+    still: 2 STEP, which is 5 % of the hysteresis band.  A down sweep alike, above."""
+    _, _, dataset = branch
+    up_jump, down_jump = dataset.attrs["up_sweep_jumps"], dataset.attrs["down_sweep_jumps"]
+    assert up_jump.size == 1 and down_jump.size == 1  # one softening loop
+    reference_up = _jump(*time_sweeps["up"])
+    reference_down = _jump(*time_sweeps["down"])
+    assert reference_up - 2 * STEP <= up_jump[0] <= reference_up
+    assert reference_down <= down_jump[0] <= reference_down + 2 * STEP
+    band = up_jump[0] - down_jump[0]
+    assert band > 20 * STEP  # a real hysteresis loop, not a step artefact
+    # softening: the up sweep jumps at the higher frequency
+    assert up_jump[0] > down_jump[0]
+
+
+def test_outer_branches_match_the_sweeps_and_are_stable(branch, time_sweeps):
+    """At 0.85 rad/s, inside the loop, the sweep up sits on the lower branch and the
+    sweep down on the upper: their peak-to-peak DTE equals the balance's on the two
+    stable branches (RK4 at 128 steps a period and the settling leave < 1e-3; H = 16
+    leaves < 1e-4, the orbit's force being continuous), and a third solution between
+    them is the unstable one no sweep shows."""
+    system, law, dataset = branch
+    problem = BacklashProblem(system, law, HARMONICS)
+    speed = dataset.speed.values
+    w = 0.85
+    crossings = np.flatnonzero(np.sign(speed[:-1] - w) != np.sign(speed[1:] - w))
+    assert crossings.size == 3
+    found = []
+    for i in crossings:
+        x, _, ok = newton(
+            lambda z: problem.residual(z, w)[:2],
+            dataset.deflection_coefficients.values[i].reshape(-1),
+            tolerance=1e-12,
+        )
+        assert ok
+        deflection = problem.signals(x, 4096)[0][:, 0]
+        stable = np.abs(problem.multipliers(x, w)[0]) < 1
+        found.append((float(np.ptp(deflection)), bool(stable), int(dataset.stable.values[i])))
+    found.sort()
+    (low, s_low, d_low), (mid, s_mid, d_mid), (high, s_high, d_high) = found
+    frequencies, amplitude = time_sweeps["up"]
+    assert low == pytest.approx(amplitude[np.argmin(np.abs(frequencies - w))], abs=1e-3)
+    frequencies, amplitude = time_sweeps["down"]
+    assert high == pytest.approx(amplitude[np.argmin(np.abs(frequencies - w))], abs=1e-3)
+    assert (s_low, s_mid, s_high) == (True, False, True)
+    assert (d_low, d_mid, d_high) == (1, 0, 1)
+
+
+def test_stability_flips_at_the_folds(branch):
+    """Along the branch the stable flag changes exactly at the turning points: stable
+    before the first fold, unstable between the two (a real multiplier past +1, the
+    saddle-node's), stable after the second."""
+    _, _, dataset = branch
+    turning = np.flatnonzero(dataset.turning.values)
+    assert turning.size == 2
+    stable = dataset.stable.values
+    first, second = turning
+    assert stable[: first + 1].all()
+    assert not stable[first + 2 : second].any()
+    assert stable[second + 2 :].all()
+    assert dataset.floquet_multiplier.values[first + 2 : second].max() > 1.3
+
+
+def _poincare_multipliers(x0: float, v0: float, w: float) -> np.ndarray:
+    """Eigenvalues of the period map's Jacobian by central differences of the flow
+    (DOP853 at rtol 1e-11: the differences carry ~1e-11 / 1e-5 = 1e-6 of noise)."""
+
+    def flow(state: np.ndarray) -> np.ndarray:
+        sol = scipy.integrate.solve_ivp(
+            lambda t, y: [y[1], _acceleration(t, y[0], y[1], w)],
+            (0.0, 2 * math.pi / w),
+            state,
+            method="DOP853",
+            rtol=1e-11,
+            atol=1e-13,
+        )
+        return sol.y[:, -1]
+
+    eps = 1e-5
+    base = np.array([x0, v0])
+    jac = np.empty((2, 2))
+    for k in range(2):
+        d = np.zeros(2)
+        d[k] = eps
+        jac[:, k] = (flow(base + d) - flow(base - d)) / (2 * eps)
+    return np.linalg.eigvals(jac)
+
+
+@pytest.mark.parametrize("which", ["upper", "middle"])
+def test_floquet_multipliers_match_the_flow(branch, which):
+    """The multipliers of the contact state's linearisation equal those of the period
+    map of the nonlinear flow, differentiated numerically around the balanced orbit.
+    The monodromy holds the contact stiffness over 128 segments with a switch inside
+    two of them (error ~ (T/128)^2 ~ 2e-3 relative) and the orbit carries the H = 16
+    truncation: 1 % on the largest modulus, against a distance of 30 % and more from 1."""
+    system, law, dataset = branch
+    problem = BacklashProblem(system, law, HARMONICS)
+    speed = dataset.speed.values
+    w = 0.85
+    crossings = np.flatnonzero(np.sign(speed[:-1] - w) != np.sign(speed[1:] - w))
+    pp = dataset.dte_peak_to_peak.values[crossings, 0]
+    i = crossings[np.argsort(pp)[2 if which == "upper" else 1]]
+    x, _, ok = newton(
+        lambda z: problem.residual(z, w)[:2],
+        dataset.deflection_coefficients.values[i].reshape(-1),
+        tolerance=1e-13,
+    )
+    h = HARMONICS
+    a, b = x[1 : h + 1], x[h + 1 :]
+    k = np.arange(1, h + 1)
+    x0, v0 = x[0] + a.sum(), float((k * w * b).sum())
+    expected = np.max(np.abs(_poincare_multipliers(x0, v0, w)))
+    got = np.abs(problem.multipliers(x, w)[0])
+    assert got == pytest.approx(expected, rel=1e-2)
+    assert (got > 1) == (which == "middle")
+
+
+def test_no_contact_loss_equals_hill_to_round_off():
+    """A mesh stiffness with two harmonics and a forcing small enough that the drive
+    flanks never part: the flank law is then linear, the AFT products are exact (N = 8
+    (2H + 1) > 3H samples) and Newton's first step lands on Hill's condensed solution
+    (same equations): equal to round-off, 1e-12 of the deflection."""
+    system = oscillator_system(ZETA, F_M, 0.01, (0.2, 0.05))
+    for backlash in (1e3, np.inf):
+        problem = BacklashProblem(system, BacklashLaw(np.array([backlash])), 8)
+        for w in (0.45, 0.9, 1.7):
+            x, history, ok = newton(
+                lambda z, w=w, p=problem: p.residual(z, w)[:2],
+                problem.static_guess(),
+                tolerance=1e-15,
+            )
+            assert ok and len(history) <= 3
+            hill = problem.from_hill(solve_hill(system, w, 8).deflection)
+            assert np.abs(x - hill).max() <= 1e-12 * np.abs(hill).max()
+            assert problem.signals(x)[0].min() > 0  # no separation: the linear regime
+
+
+def _pair_case() -> Case:
+    """One spur pair, 23:41 teeth of 4 mm module at 20 deg (as in the stability tests)."""
+
+    def gear(teeth: int) -> Gear:
+        radius = 4e-3 * teeth * math.cos(math.radians(20)) / 2
+        mass = 3.0 * (teeth / 23) ** 2
+        inertia = 0.5 * mass * (radius / math.cos(math.radians(20))) ** 2
+        return Gear(mass=mass, polar_inertia=inertia, tilt_inertia=inertia / 2,
+                    base_radius=radius, teeth=teeth)  # fmt: skip
+
+    bearing = Bearing(radial=5e8, axial=5e8, tilt=1e10, torsional=0.0)
+    stage = ParallelStage(
+        name="pair", input_gear=gear(23), output_gear=gear(41), input_bearing=bearing,
+        output_bearing=bearing, overlap_ratio=0.0, base_helix_angle_deg=0.0,
+        mesh=Mesh(stiffness=3e8, pressure_angle_deg=20.0, contact_ratio=1.6,
+                  end_to_peak=0.9, backlash=0.1e-3),
+    )  # fmt: skip
+    return Case(name="pair", gearbox=Gearbox(stages=(stage,)), formulation="improved",
+                damping=RayleighDamping(0.0, 2e-6),
+                scenes=(Scene("modal", dof_set="planar"),))  # fmt: skip
+
+
+def test_gearbox_model_without_contact_loss_equals_hill():
+    """Through a pygear spur-pair model (its contact-table stiffness with the jumps of
+    a 1.6 contact ratio, bearings, several modes): with the AFT at the stiffness
+    samples, the circular convolution folds nothing into harmonics 0..H, so the
+    balance equals Hill's to round-off wherever the teeth stay in contact."""
+    case = _pair_case()
+    system = response_system(case, case.scenes[0], samples=2**12)
+    problem = BacklashProblem(system, BacklashLaw(np.array([1e-4])), 8, samples=2**12)
+    for speed in (300.0, 700.0):
+        w = system.omega(speed)
+        x, _, ok = newton(
+            lambda z, w=w: problem.residual(z, w)[:2], problem.static_guess(), tolerance=1e-22
+        )
+        assert ok
+        hill = problem.from_hill(solve_hill(system, w, 8).deflection)
+        assert np.abs(x - hill).max() <= 1e-10 * np.abs(hill).max()
+        assert problem.signals(x)[0].min() > 0
+
+
+def test_jacobian_matches_central_differences():
+    """The analytic AFT Jacobian and frequency derivative against central differences
+    of the residual, on a smoothed law (eps = 0.02) with contact loss and coast impacts:
+    the differences' error is O(d^2 g''') ~ (1e-6)^2 / eps^2, far under the 1e-6
+    asked."""
+    system = oscillator_system(ZETA, F_M, 0.3, (0.2,))
+    problem = BacklashProblem(system, BacklashLaw(np.array([0.3]), smoothing=0.02), 6)
+    rng = np.random.default_rng(3)
+    x = problem.static_guess() + 0.3 * rng.standard_normal(problem.size)
+    deflection = problem.signals(x)[0][:, 0]
+    assert deflection.max() > 0 and deflection.min() < -0.3  # all three flank states
+    w = 0.9
+    _, jac, dw = problem.residual(x, w)
+    d = 1e-6
+    numeric = np.empty_like(jac)
+    for k in range(problem.size):
+        e = np.zeros(problem.size)
+        e[k] = d
+        numeric[:, k] = (problem.residual(x + e, w)[0] - problem.residual(x - e, w)[0]) / (2 * d)
+    assert np.abs(jac - numeric).max() <= 1e-6 * np.abs(jac).max()
+    numeric_w = (problem.residual(x, w + d)[0] - problem.residual(x, w - d)[0]) / (2 * d)
+    assert np.abs(dw - numeric_w).max() <= 1e-6 * np.abs(dw).max()
+
+
+def test_newton_converges_quadratically_on_a_smooth_case():
+    """Plain Newton (no line search) on the smoothed law (eps = 0.01), from the solution
+    at a frequency 1 % away, where the drive flanks part every period: quadratic
+    convergence, r_{k+1} <= C r_k^2 with C bounded (C < 100) down to r_k ~ 1e-6, where a
+    linear rate rho would show as C = rho / r_k > 1e5 rho."""
+    system = oscillator_system(ZETA, F_M, F_A)
+    problem = BacklashProblem(system, BacklashLaw(np.array([GAP]), smoothing=0.01), HARMONICS)
+    dataset = continue_response(system, problem.law, (1.2, 0.95), harmonics=HARMONICS,
+                                stability=False)  # fmt: skip
+    x = dataset.deflection_coefficients.values[-1].reshape(-1)  # upper branch near 0.95
+    w = float(dataset.frequency.values[-1]) * 1.01
+    residuals = []
+    for _ in range(8):
+        r, jac, _ = problem.residual(x, w)
+        residuals.append(float(np.abs(r).max()))
+        if residuals[-1] < 1e-15:
+            break
+        x = x - np.linalg.solve(jac, r)
+    assert residuals[-1] < 1e-15 and len(residuals) <= 6
+    assert problem.signals(x)[0].min() < 0  # the flanks do part
+    pairs = [(a, b) for a, b in zip(residuals, residuals[1:]) if b > 1e-13]
+    assert min(a for a, _ in pairs) < 1e-5  # the asymptotic regime is reached
+    assert max(b / a**2 for a, b in pairs) < 100
