@@ -569,3 +569,29 @@ def test_mesh_events_follow_the_nrel_stages_from_the_rotor():
     assert events["stage1"] == pytest.approx(56.0, rel=1e-12)
     assert events["stage2"] == pytest.approx(93 * first, rel=1e-3)  # base radii, rounded
     assert events["parallel"] == pytest.approx(95 * first * (1 + 93 / 18), rel=1e-3)
+
+
+# --- 10. probes say where the case wrote them (issue #27.21) -----------------------------------
+
+
+def test_probe_error_names_the_line_of_the_case_file_that_wrote_it(tmp_path, capsys):
+    # the second probe, written on line 8 of case.py (3 header lines, the body's blank
+    # first line, then its 4th); the command line names the line that built the case
+    case_dir = _case_dir(
+        tmp_path,
+        "probe_line",
+        """
+        runup = study.scene("runup")
+        probes = (
+            Probe("speed", "planetary.sun"),
+            Probe("speed", "planetary.carrier", name="t_s"),
+        )
+        settings = dataclasses.replace(runup.transient, probes=probes)
+        case = dataclasses.replace(study, scenes=(dataclasses.replace(runup, transient=settings),))
+        """,
+    )
+    assert main(["show-case", str(case_dir)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "probes[1].name" in err
+    assert err.endswith("(written at probe_line/case.py:8)")
+    assert len(err.splitlines()) == 1

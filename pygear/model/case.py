@@ -22,7 +22,7 @@ from .names import DOF_SETS, FORMULATIONS
 from .sensors import Sensor, validate_sensors
 from .time_step import check_time_step
 from .tooth_faults import check_fault_on_tooth
-from .transient_settings import Transient
+from .transient_settings import Transient, where_written
 
 __all__ = [
     "ANALYSES",
@@ -255,6 +255,7 @@ class Case:
                 raise CaseError(
                     f"scenes.{scene.name}.transient.probes[{n}].target: {probe.target!r} is "
                     f"not a sensor of the case (sensors: {', '.join(names) or 'none'})"
+                    f"{where_written(probe)}"
                 )
 
     def for_scene(self, scene: Scene) -> Case:

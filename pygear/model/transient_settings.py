@@ -18,8 +18,10 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -250,6 +252,30 @@ class TorqueLaw:
         return -1 if self.torque < 0 else 1
 
 
+_PACKAGE = Path(__file__).resolve().parent.parent
+"""pygear's own directory: frames inside it are not where a case wrote something."""
+
+
+def written_at() -> str:
+    """``<directory>/<file>:<line>`` of the innermost caller outside pygear (and outside
+    the standard library's dataclasses), or "" when there is none."""
+    frame = sys._getframe(1)
+    while frame is not None:
+        filename = frame.f_code.co_filename
+        path = Path(filename)
+        inside = path.is_relative_to(_PACKAGE) if path.is_absolute() else False
+        if not inside and not filename.startswith("<") and path.name != "dataclasses.py":
+            return f"{path.parent.name}/{path.name}:{frame.f_lineno}"
+        frame = frame.f_back
+    return ""
+
+
+def where_written(item: object) -> str:
+    """`` (written at <file>:<line>)`` for an item that knows its origin, else ""."""
+    origin = getattr(item, "origin", "")
+    return f" (written at {origin})" if origin else ""
+
+
 @dataclass(frozen=True)
 class Probe:
     """One output channel, sampled at the scene's sample rate.
@@ -269,6 +295,18 @@ class Probe:
     quantity: str
     target: str = ""
     name: str | None = None
+    _origin: str = field(default="", repr=False, compare=False, kw_only=True)
+
+    def __post_init__(self) -> None:
+        if not self._origin:
+            object.__setattr__(self, "_origin", written_at())
+
+    @property
+    def origin(self) -> str:
+        """Where the probe was written, ``<case dir>/case.py:<line>`` (the first caller
+        outside pygear), or "" when pygear made it; error messages about the probe end
+        with it."""
+        return self._origin
 
     @property
     def variable(self) -> str:
@@ -500,7 +538,10 @@ class Transient:
         for k, probe in enumerate(self.probes):
             if not isinstance(probe, Probe):
                 raise CaseError(f"{path}.probes[{k}] must be a Probe (got {probe!r})")
-            probe.validate(f"{path}.probes[{k}]")
+            try:
+                probe.validate(f"{path}.probes[{k}]")
+            except CaseError as error:
+                raise CaseError(f"{error}{where_written(probe)}") from None
         names = [p.variable for p in self.probes]
         duplicates = sorted({n for n in names if names.count(n) > 1})
         if duplicates:
