@@ -8,7 +8,9 @@ the work, the files and the figures.  Its peak resident memory is the child's ow
 without a second program).  A run's solver time is the ``solver_wall_s`` attribute of
 the ``<scene>.nc`` it wrote (the kernel's integration only), and every time is also
 given as a ratio to the median of those.  Medians of repeats; the load average is
-printed, since other work on a shared machine takes cores from the commands.
+printed, since other work on a shared machine takes cores from the commands, and so is
+each command's CPU time (user and system, from the same ``wait4``), which that other
+work changes far less than the wall time.
 
 Then each figure of the run-up is drawn again in this process from the run's files
 (median of repeats after one untimed drawing), and Matplotlib's first import is timed:
@@ -41,11 +43,13 @@ def pygear_command() -> list[str]:
     return [str(script)] if script.is_file() else [sys.executable, "-m", "pygear"]
 
 
-def run_once(arguments: list[str], cwd: Path) -> tuple[float, float]:
-    """Wall time [s] and peak resident memory [MiB] of one process (output discarded)."""
+def run_once(arguments: list[str], cwd: Path, command: list[str] | None = None):
+    """Wall time [s], peak resident memory [MiB] and CPU time [s] (user and system, with
+    the children it waited for) of one process (output discarded); ``command`` instead of
+    ``pygear`` runs another program."""
     started = time.perf_counter()
     process = subprocess.Popen(
-        pygear_command() + arguments,
+        (pygear_command() if command is None else command) + arguments,
         cwd=cwd,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
@@ -58,7 +62,7 @@ def run_once(arguments: list[str], cwd: Path) -> tuple[float, float]:
         raise RuntimeError(f"pygear {' '.join(arguments)} failed:\n{stderr}")
     # ru_maxrss is in kilobytes on Linux, bytes on macOS
     scale = 1.0 if sys.platform == "darwin" else 1024.0
-    return wall, usage.ru_maxrss * scale / 2**20
+    return wall, usage.ru_maxrss * scale / 2**20, usage.ru_utime + usage.ru_stime
 
 
 def solver_seconds(path: Path) -> float:
@@ -121,7 +125,9 @@ def main() -> None:
     args = parser.parse_args()
     scratch = Path(tempfile.mkdtemp(prefix="bench_end_to_end_"))
     run = ["run", args.case, "--scene", args.scene]
+    interpreter = [sys.executable, "-c", "pass"]
     commands = [
+        ("python -c pass (the interpreter alone)", interpreter, None),
         ("pygear --help", ["--help"], None),
         (f"pygear modal {args.case}", ["modal", args.case], None),
         (f"pygear {' '.join(run)}", run + ["--out", str(scratch / "figures")], "figures"),
@@ -140,14 +146,20 @@ def main() -> None:
     try:
         run_once(["--help"], ROOT)  # a kernel rebuild after an edit is not what we time
         for name, arguments, out in commands:
-            walls, peaks = [], []
+            walls, peaks, cpus = [], [], []
             for _ in range(args.repeats):
-                wall, peak = run_once(arguments, ROOT)
+                if arguments is interpreter:
+                    wall, peak, cpu = run_once([], ROOT, command=interpreter)
+                else:
+                    wall, peak, cpu = run_once(arguments, ROOT)
                 walls.append(wall)
                 peaks.append(peak)
+                cpus.append(cpu)
                 if out is not None:
                     solver.append(solver_seconds(scratch / out / f"{args.scene}.nc"))
-            results.append((name, statistics.median(walls), statistics.median(peaks)))
+            results.append(
+                (name, statistics.median(walls), statistics.median(peaks), statistics.median(cpus))
+            )
         figures = figure_costs(scratch / "figures" / f"{args.scene}.nc", scratch, args.repeats)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
@@ -157,9 +169,14 @@ def main() -> None:
         f"{solver_median * 1e3:.0f} ms; load average {load_before:.2f} -> "
         f"{os.getloadavg()[0]:.2f}"
     )
-    print(f"{'command':<58} {'wall [s]':>8} {'x solver':>8} {'peak RSS [MiB]':>15}")
-    for name, wall, peak in results:
-        print(f"{name:<58} {wall:>8.2f} {wall / solver_median:>8.2f} {peak:>15.0f}")
+    print(
+        f"{'command':<58} {'wall [s]':>8} {'x solver':>8} {'peak RSS [MiB]':>15} "
+        f"{'CPU [s]':>8}"
+    )
+    for name, wall, peak, cpu in results:
+        print(
+            f"{name:<58} {wall:>8.2f} {wall / solver_median:>8.2f} {peak:>15.0f} {cpu:>8.2f}"
+        )
     print(f"\n{'figure of the run, drawn in this process':<58} {'wall [s]':>8} {'x solver':>8}")
     for name, seconds in figures:
         print(f"{name:<58} {seconds:>8.3f} {seconds / solver_median:>8.2f}")
