@@ -57,13 +57,13 @@ from pygear import (
     Transient,
 )
 from pygear.assembly.mesh_stiffness_laws import iso6336_mesh_stiffness
-from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
 from pygear.model import (
     GearGeometry,
     MeshGeometry,
     base_radius,
     normal_backlash,
 )
+from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
 
 # ----------------------------------------------------------------------------------
 # Gear geometry [P-V]; the SIMPACK model repeats m_n, b, a_w, alpha_n, beta, z and x
