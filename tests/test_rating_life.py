@@ -155,3 +155,35 @@ def test_bearing_and_duty_inputs_are_checked():
         DutyCycle((1.0, 2.0), (1.0,))
     with pytest.raises(CaseError, match=r"kind must be one of"):
         RollingBearingData("X", "needle", 1e6, 2e6, location="stage1.planet")
+
+
+def test_a_misspelt_mesh_or_stage_is_refused():
+    import dataclasses
+
+    from pygear.analysis.rating.gearbox_rating import rate_gearbox
+    from pygear.model.rating import load_rating
+
+    case, rating = load_rating("nrel5mw_gearbox")
+    typo = dataclasses.replace(rating, load_sharing={"stage_1": 1.2})
+    with pytest.raises(CaseError, match=r"rating\.load_sharing names \['stage_1'\]"):
+        rate_gearbox(case, typo)
+    with pytest.raises(CaseError, match=r"dynamic_factors names \['stage1\.sun'\]"):
+        rate_gearbox(case, rating, dynamic_factors={"stage1.sun": 1.1})
+
+
+def test_dynamic_factor_from_outside_enters_as_given():
+    # the hook for pygear response: K_v per mesh replaces method B, marked "response",
+    # and sigma_H scales as sqrt(K_v) with the other factors of that mesh held
+    from pygear.analysis.rating.gearbox_rating import rate_gearbox
+    from pygear.model.rating import load_rating
+
+    case, rating = load_rating("nrel5mw_gearbox")
+    plain = rate_gearbox(case, rating, dynamic_factors={"stage2.sun_mesh": 1.1})
+    harder = rate_gearbox(case, rating, dynamic_factors={"stage2.sun_mesh": 1.44})
+    mesh = {m.name: m for m in harder.meshes}["stage2.sun_mesh"]
+    assert mesh.rating.mesh["K_v"].value == 1.44
+    assert mesh.rating.mesh["K_v"].source == "response"
+    before = {m.name: m for m in plain.meshes}["stage2.sun_mesh"].rating
+    ratio = mesh.rating.gears[0]["sigma_H"].value / before.gears[0]["sigma_H"].value
+    held = (mesh.rating.mesh["K_Halpha"].value / before.mesh["K_Halpha"].value)
+    assert ratio == pytest.approx(math.sqrt(1.44 / 1.1 * held), rel=1e-12)

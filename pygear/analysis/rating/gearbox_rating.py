@@ -176,10 +176,21 @@ def pair_loads(case, rating: Rating, torque: float, speed: float, application_fa
                 service_life_h=rating.service_life_h,
             )
             out.append((name, gears, stage.name, load))
-    unknown = sorted(set(dynamic_factors) - {entry[0] for entry in out})
-    if unknown:
-        raise CaseError(f"dynamic_factors names unknown meshes {unknown}; the meshes are "
-                        f"{[entry[0] for entry in out]}")
+    meshes = [entry[0] for entry in out]
+    gears = {gear for entry in out for gear in entry[1]}
+    stages = {entry[2] for entry in out if entry[0].endswith("sun_mesh")}
+    for label, keys, known in (
+        ("dynamic_factors", dynamic_factors, meshes),
+        ("rating.dynamic_factor", rating.dynamic_factor, meshes),
+        ("rating.face_load_factor", rating.face_load_factor, meshes),
+        ("rating.transverse_load_factor", rating.transverse_load_factor, meshes),
+        ("rating.load_sharing", rating.load_sharing, sorted(stages)),
+        ("rating.materials", rating.materials, sorted(gears)),
+    ):
+        unknown = sorted(set(keys) - set(known))
+        if unknown:
+            raise CaseError(f"{label} names {unknown}, which the case does not have; "
+                            f"it has {known}")
     return out
 
 
