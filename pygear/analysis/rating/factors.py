@@ -14,6 +14,7 @@ __all__ = [
     "dynamic_factor_method_b",
     "elasticity_factor",
     "contact_ratio_factor",
+    "deep_tooth_factor",
     "face_load_factor_root",
     "helix_angle_factor_contact",
     "helix_angle_factor_root",
@@ -371,6 +372,14 @@ def rim_thickness_factor(rim: float | None, module: float, tooth_depth: float,
     if internal:
         return 1.0 if rim / module >= 3.5 else 1.15 * math.log(8.324 * module / rim)
     return 1.0 if rim / tooth_depth >= 1.2 else 1.6 * math.log(2.242 * tooth_depth / rim)
+
+
+def deep_tooth_factor(eps_alpha_n: float, grade: int) -> float:
+    """Y_DT (ISO 6336-3 cl. 10): 1 unless eps_alpha_n > 2.05 with grade Q <= 4, then
+    2.366 - 0.666 eps_alpha_n up to eps_alpha_n = 2.5 and 0.9 beyond."""
+    if eps_alpha_n <= 2.05 or grade > 4:
+        return 1.0
+    return 2.366 - 0.666 * eps_alpha_n if eps_alpha_n <= 2.5 else 0.9
 
 
 def notch_sensitivity_factor(q_s: float, slip_layer: float) -> float:

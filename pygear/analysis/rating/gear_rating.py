@@ -307,7 +307,8 @@ def rate_pair(load: PairLoad) -> PairRating:
         entry["Y_B"] = _computed(
             iso.rim_thickness_factor(None if rim is None else rim * 1e3, m_n, depth,
                                      gear.internal), "Y_B")
-        entry["Y_DT"] = _computed(1.0, "Y_DT", "eps_alpha_n <= 2.05")
+        entry["Y_DT"] = _computed(iso.deep_tooth_factor(eps_a / math.cos(beta_b) ** 2,
+                                                        load.accuracy_grade), "Y_DT")
         entry["Y_NT"] = _computed(iso.life_factor(material.kind, cycles, root=True), "Y_NT")
         entry["Y_delta_relT"] = _computed(
             iso.notch_sensitivity_factor(form.q_s, material.slip_layer_mm), "Y_delta_relT")
