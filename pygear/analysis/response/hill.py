@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 import scipy.sparse
+import scipy.sparse.linalg
 
 from ...errors import CaseError
 from .system import ResponseSystem
@@ -56,6 +57,17 @@ __all__ = [
 
 AUTO_HARMONICS = (2, 4, 8, 16, 32, 64, 128)
 """Harmonic counts tried in turn when the count is chosen by the tolerance."""
+
+ITERATIVE_ROWS = 1000
+"""Complex rows of (2) from which ``solve_hill(method="auto")`` iterates."""
+
+PRECONDITIONED_BAND = 8
+"""Harmonics |j| <= this are inverted exactly in the GMRES preconditioner."""
+
+GMRES_TOLERANCE = 1e-12
+GMRES_RESTART = 200
+GMRES_CYCLES = 5
+"""GMRES: relative residual of (2), Krylov vectors between restarts, restarts."""
 
 
 @dataclass
@@ -137,14 +149,23 @@ def solve_hill(
     omega: float,
     harmonics: int,
     coefficients: np.ndarray | None = None,
+    *,
+    method: str = "auto",
 ) -> HillSolution:
     """Solve Hill's system (2) at one fundamental frequency and harmonic count.
 
-    The solution is real, delta_{-k} = conj(delta_k), so (2) is solved for harmonics
-    0..H in real form: unknowns Re delta_0..H and Im delta_1..H, equations the real
-    parts of harmonics 0..H and the imaginary parts of 1..H (that of harmonic 0 holds
-    identically), a real system of n_mesh (2H + 1) rows: a quarter of the complex
-    factorisation's work.
+    ``direct``: the solution is real, delta_{-k} = conj(delta_k), so (2) is solved for
+    harmonics 0..H in real form (unknowns Re delta_0..H and Im delta_1..H, equations the
+    real parts of harmonics 0..H and the imaginary parts of 1..H, that of harmonic 0
+    holding identically), one LU factorisation of n_mesh (2H + 1) real rows: a quarter
+    of the complex factorisation's work.
+
+    ``iterative``: GMRES on (2) with the convolution T applied by FFT, preconditioned by
+    the exact inverse of the band |j| <= :data:`PRECONDITIONED_BAND` and the block
+    diagonal (I + G_j c_0)^-1 above it; the higher harmonics couple weakly (G_j falls
+    as 1/j^2 above the mesh modes), so a few to a few tens of iterations reach a
+    relative residual of 1e-12 where the LU costs n^3.  Should GMRES stall, the direct
+    solve takes over.  ``auto`` iterates from :data:`ITERATIVE_ROWS` complex rows on.
 
     Parameters
     ----------
@@ -157,6 +178,8 @@ def solve_hill(
     coefficients : ndarray, optional
         Fourier coefficients of the stiffness variation over -3H..3H (or more);
         computed from ``system.stiffness`` when not given.
+    method : str
+        ``auto``, ``direct`` or ``iterative``.
 
     Returns
     -------
@@ -164,39 +187,25 @@ def solve_hill(
         With its residual estimate.
     """
     h = int(harmonics)
+    if method not in ("auto", "direct", "iterative"):
+        raise ValueError(f"method must be auto, direct or iterative (got {method!r})")
     if coefficients is None:
         coefficients = fourier_coefficients(system.stiffness_variation, 3 * h)
     centre = coefficients.shape[0] // 2
     coefficients = coefficients[centre - 3 * h : centre + 3 * h + 1]
-    c = lambda order: coefficients[3 * h + order]  # noqa: E731 (c_order, any sign)
     solved, receptance = _receptance(system, omega, np.arange(0, 2 * h + 1))
     n_mesh = system.mesh_rows.shape[0]
-    j = np.arange(h + 1)
-    same = receptance[: h + 1, :, None, :] * c(j[:, None] - j[None, :])[:, None, :, :]
-    same[j, :, j, :] += np.eye(n_mesh)
-    mirror = receptance[: h + 1, :, None, :] * c(j[:, None] + j[None, :])[:, None, :, :]
-    mirror[:, :, 0, :] = 0.0  # delta_0 enters once, through c_j
-    plus, minus = same + mirror, same - mirror
-    size = (h + 1) * n_mesh
-    real_rows = np.concatenate(
-        [plus.real.reshape(size, size), -minus.imag.reshape(size, size)[:, n_mesh:]], axis=1
-    )
-    imag_rows = np.concatenate(
-        [plus.imag.reshape(size, size), minus.real.reshape(size, size)[:, n_mesh:]], axis=1
-    )[n_mesh:]
-    matrix = np.concatenate([real_rows, imag_rows], axis=0)
     forcing = np.zeros((h + 1, system.size), dtype=complex)
     forcing[0] = system.force
     if system.harmonic_force is not None:
         extra = system.harmonic_force[:h]
         forcing[1 : 1 + extra.shape[0]] = extra
     response = np.einsum("jin,ji->jn", solved[: h + 1], forcing)  # B D_j^-1 f_j
-    rhs = np.concatenate([response.real.reshape(-1), response.imag[1:].reshape(-1)])
-    factor = scipy.linalg.lu_factor(matrix, check_finite=False)
-    unknowns = scipy.linalg.lu_solve(factor, rhs, check_finite=False)
-    half = unknowns[:size].reshape(h + 1, n_mesh).astype(complex)
-    half[1:] += 1j * unknowns[size:].reshape(h, n_mesh)
-    deflection = np.concatenate([np.conj(half[:0:-1]), half])  # -H..H
+    deflection = None
+    if method == "iterative" or (method == "auto" and (2 * h + 1) * n_mesh >= ITERATIVE_ROWS):
+        deflection = _iterative(receptance[: h + 1], coefficients, response, h)
+    if deflection is None:
+        deflection = _direct(receptance[: h + 1], coefficients, response, h)
     toeplitz = _toeplitz(coefficients[h : 5 * h + 1], h)  # c over -2H..2H
     load = np.einsum("jkm,km->jm", toeplitz, deflection)[h:]  # (T delta)_j, j = 0..H
     lam, c = system.eigenvalues, system.damping
@@ -210,6 +219,87 @@ def solve_hill(
     coordinates = np.concatenate([np.conj(upper[:0:-1]), upper])
     residual = _residual(system, receptance, coefficients, deflection, h)
     return HillSolution(h, omega, deflection, coordinates, residual)
+
+
+def _direct(
+    receptance: np.ndarray, coefficients: np.ndarray, response: np.ndarray, h: int
+) -> np.ndarray:
+    """delta_-H..H of (2) by one real LU factorisation (receptances of orders 0..H)."""
+    n_mesh = receptance.shape[1]
+    c = lambda order: coefficients[3 * h + order]  # noqa: E731 (c_order, any sign)
+    j = np.arange(h + 1)
+    same = receptance[:, :, None, :] * c(j[:, None] - j[None, :])[:, None, :, :]
+    same[j, :, j, :] += np.eye(n_mesh)
+    mirror = receptance[:, :, None, :] * c(j[:, None] + j[None, :])[:, None, :, :]
+    mirror[:, :, 0, :] = 0.0  # delta_0 enters once, through c_j
+    plus, minus = same + mirror, same - mirror
+    size = (h + 1) * n_mesh
+    real_rows = np.concatenate(
+        [plus.real.reshape(size, size), -minus.imag.reshape(size, size)[:, n_mesh:]], axis=1
+    )
+    imag_rows = np.concatenate(
+        [plus.imag.reshape(size, size), minus.real.reshape(size, size)[:, n_mesh:]], axis=1
+    )[n_mesh:]
+    matrix = np.concatenate([real_rows, imag_rows], axis=0)
+    rhs = np.concatenate([response.real.reshape(-1), response.imag[1:].reshape(-1)])
+    factor = scipy.linalg.lu_factor(matrix, check_finite=False)
+    unknowns = scipy.linalg.lu_solve(factor, rhs, check_finite=False)
+    half = unknowns[:size].reshape(h + 1, n_mesh).astype(complex)
+    half[1:] += 1j * unknowns[size:].reshape(h, n_mesh)
+    return np.concatenate([np.conj(half[:0:-1]), half])  # -H..H
+
+
+def _iterative(
+    receptance: np.ndarray, coefficients: np.ndarray, response: np.ndarray, h: int
+) -> np.ndarray | None:
+    """delta_-H..H of (2) by preconditioned GMRES, or None when it does not converge."""
+    n_mesh = receptance.shape[1]
+    rows = 2 * h + 1
+    full = np.concatenate([np.conj(receptance[:0:-1]), receptance])  # G_-H..H
+    c = coefficients[h : 5 * h + 1]  # c_-2H..2H
+    size = 1 << (rows + c.shape[0] - 2).bit_length()
+    c_spectrum = np.fft.fft(c, size, axis=0)
+
+    def apply(x: np.ndarray) -> np.ndarray:
+        d = x.reshape(rows, n_mesh)
+        conv = np.fft.ifft(c_spectrum * np.fft.fft(d, size, axis=0), axis=0)[2 * h : 2 * h + rows]
+        return (d + np.einsum("jmn,jn->jm", full, conv)).reshape(-1)
+
+    band = min(h, PRECONDITIONED_BAND)
+    low = slice(h - band, h + band + 1)
+    k = np.arange(-band, band + 1)
+    toeplitz = coefficients[3 * h + k[:, None] - k[None, :]]
+    block = (full[low][:, :, None, :] * toeplitz[:, None, :, :]).reshape(
+        (2 * band + 1) * n_mesh, -1
+    ) + np.eye((2 * band + 1) * n_mesh)
+    factor = scipy.linalg.lu_factor(block, check_finite=False)
+    diagonal = np.linalg.inv(np.eye(n_mesh)[None] + full * coefficients[3 * h][None, None, :])
+
+    def precondition(x: np.ndarray) -> np.ndarray:
+        d = x.reshape(rows, n_mesh)
+        out = np.einsum("jmn,jn->jm", diagonal, d)
+        out[low] = scipy.linalg.lu_solve(factor, d[low].reshape(-1), check_finite=False).reshape(
+            2 * band + 1, n_mesh
+        )
+        return out.reshape(-1)
+
+    rhs = np.zeros((rows, n_mesh), dtype=complex)
+    rhs[h:] = response
+    rhs[:h] = np.conj(response[:0:-1])
+    shape = (rows * n_mesh, rows * n_mesh)
+    solution, info = scipy.sparse.linalg.gmres(
+        scipy.sparse.linalg.LinearOperator(shape, apply, dtype=complex),
+        rhs.reshape(-1),
+        M=scipy.sparse.linalg.LinearOperator(shape, precondition, dtype=complex),
+        rtol=GMRES_TOLERANCE,
+        atol=0.0,
+        restart=GMRES_RESTART,
+        maxiter=GMRES_CYCLES,
+    )
+    if info != 0 or not np.all(np.isfinite(solution)):
+        return None
+    d = solution.reshape(rows, n_mesh)
+    return 0.5 * (d + np.conj(d[::-1]))  # the real solution's symmetry, exact
 
 
 def _residual(
