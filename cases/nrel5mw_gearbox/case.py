@@ -705,9 +705,10 @@ case = Case(
 
 # ----------------------------------------------------------------------------------
 # Rating data (pygear rate: ISO 6336 and ISO 281).  Sources beyond the tags above:
-# [Repro-KS] the reproduction's KISSsoft report of stage 1 (``@NREL_5MW/stage_01.rtf``,
-# ISO 6336:2006 method B): materials, roughness, oil, accuracy grade, K_A, K_gamma,
-# K_Hbeta, required safeties and life, which follow IEC 61400-4.
+# [Repro-KS] the reproduction's KISSsoft reports of the three stages
+# (``@NREL_5MW/stage_01.rtf``, ``stage_02.rtf``, ``stage_03.rtf``, ISO 6336:2006 method
+# B): materials, roughness, oil, accuracy grade, K_A, K_gamma, K_Hbeta, required
+# safeties and life, which follow IEC 61400-4.
 # ----------------------------------------------------------------------------------
 
 CARBURIZED = iso6336_5_material(
@@ -738,16 +739,17 @@ RATING_MATERIALS = {
     **{f"{stage}.{member}": CARBURIZED for stage in ("stage1", "stage2")
        for member in ("sun", "planet")},
     "stage1.ring": RING_STEEL,
-    "stage2.ring": RING_STEEL,  # ASSUMED: as stage 1's ring [Repro-KS covers stage 1]
-    # ASSUMED: the parallel stage carburized like the planetary suns and planets
+    "stage2.ring": RING_STEEL,  # [Repro-KS] (stage 2: sigma_FE 580 MPa)
+    # the parallel stage carburized like the planetary suns and planets [Repro-KS]
     "parallel.input_gear": CARBURIZED,
     "parallel.output_gear": CARBURIZED,
 }
-# IEC 61400-4's minimum face load factor K_Hbeta = 1.15, as [Repro-KS] applies it
+# Face load factors K_Hbeta [Repro-KS]: IEC 61400-4's minimum 1.15 everywhere but stage
+# 2's sun mesh, whose slender sun (b/d = 1.46) the report rates at 2.06
 FACE_LOAD_FACTOR = {mesh: 1.15 for mesh in (
-    "stage1.sun_mesh", "stage1.ring_mesh", "stage2.sun_mesh", "stage2.ring_mesh",
-    "parallel.mesh",
+    "stage1.sun_mesh", "stage1.ring_mesh", "stage2.ring_mesh", "parallel.mesh",
 )}
+FACE_LOAD_FACTOR["stage2.sun_mesh"] = 2.06
 
 
 def planet_bearing(name: str, stage: str, c: float, c0: float, pitch_diameter: float):
