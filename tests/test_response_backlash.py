@@ -19,6 +19,7 @@ from pygear.analysis.response.nonlinear import (
     continue_response,
     oscillator_system,
 )
+from pygear.assembly.mesh_backlash import line_of_action_backlash
 
 # Kahraman & Singh (1990) single-DOF spur pair, nondimensional: unit mass and mean
 # stiffness, x'' + 2 ZETA x' + g(x) = F_M + F_A cos(omega t), gap GAP (their 2b).
@@ -323,3 +324,68 @@ def test_newton_converges_quadratically_on_a_smooth_case():
     pairs = [(a, b) for a, b in zip(residuals, residuals[1:]) if b > 1e-13]
     assert min(a for a, _ in pairs) < 1e-5  # the asymptotic regime is reached
     assert max(b / a**2 for a, b in pairs) < 100
+
+
+def test_gearbox_orbit_multipliers_match_the_flow():
+    """The spur-pair model at 50 N m loses contact through its main resonance (the
+    static mesh deflection 3.9 um against a 94 um normal backlash); its upper branch at
+    7500 rpm is unstable by period doubling (a multiplier near -1.37).  The balance's
+    multipliers against forward differences of the period map of the modal equations,
+    integrated by DOP853 with the sampled stiffness: the orbit is truncated at H = 16
+    (it closes on itself to ~1e-2 under the integrator, the stiffness jumping at the
+    tooth-pair changes), so 2 % on the multiplier, whose distance from -1 is 37 %."""
+    case = _pair_case()
+    system = response_system(case, case.scenes[0], samples=2**12, torque=50.0)
+    law = BacklashLaw(line_of_action_backlash(case, system.model, "tooth_separation"))
+    assert law.backlash[0] == pytest.approx(0.1e-3 * math.cos(math.radians(20)))
+    dataset = continue_response(system, law, (9000.0, 7500.0), harmonics=16, stability=False)
+    problem = BacklashProblem(system, law, 16)
+    w = system.omega(7500.0)
+    x, _, ok = newton(
+        lambda z: problem.residual(z, w)[:2],
+        dataset.deflection_coefficients.values[-1].reshape(-1),
+        tolerance=1e-18,
+    )
+    assert ok and problem.signals(x)[0].min() < 0  # the teeth part
+    got = problem.multipliers(x, w)[0]
+    modal = problem.modal_coefficients(x, w)
+    k = np.arange(1, 17)[:, None]
+    start = np.concatenate(
+        [modal[0].real + 2 * modal[1:].real.sum(0), 2 * np.real(1j * k * w * modal[1:]).sum(0)]
+    )
+    rows, lam, damping, force = (system.mesh_rows, system.eigenvalues, system.damping,
+                                 system.force)  # fmt: skip
+    kbar, samples, sign = system.mean_stiffness, system.stiffness[:, 0], system.contact_sign
+    backlash, n = law.backlash, lam.size
+
+    def rhs(t: float, z: np.ndarray) -> np.ndarray:
+        y, v = z[:n], z[n:]
+        delta = rows @ y
+        tau = (w * t / (2 * math.pi)) % 1.0 * samples.size
+        i = int(tau)
+        stiffness = samples[i % samples.size] + (tau - i) * (
+            samples[(i + 1) % samples.size] - samples[i % samples.size]
+        )
+        c = sign * delta
+        r = sign * stiffness * (np.maximum(c, 0) + np.minimum(c + backlash, 0)) - kbar * delta
+        return np.concatenate([v, force - damping @ v - lam * y - rows.T @ r])
+
+    def period(z0: np.ndarray) -> np.ndarray:
+        sol = scipy.integrate.solve_ivp(
+            rhs, (0.0, 2 * math.pi / w), z0, method="DOP853", rtol=1e-10, atol=1e-16
+        )
+        return sol.y[:, -1]
+
+    end = period(start)
+    assert np.abs(end - start).max() < 2e-2 * np.abs(start).max()  # the orbit closes
+    scale = np.concatenate([np.full(n, 1e-9), np.full(n, 1e-9 * w)])
+    jac = np.empty((2 * n, 2 * n))
+    for col in range(2 * n):
+        e = np.zeros(2 * n)
+        e[col] = scale[col]
+        jac[:, col] = (period(start + e) - end) / scale[col]
+    flow = np.linalg.eigvals(jac)
+    expected = flow[np.argmax(np.abs(flow))]
+    assert expected.real < -1.2 and abs(expected.imag) < 1e-6  # period doubling
+    assert got.real == pytest.approx(expected.real, rel=2e-2)
+    assert abs(got.imag) < 1e-9

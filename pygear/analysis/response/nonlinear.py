@@ -328,6 +328,30 @@ class BacklashProblem:
         )
         return floquet_multipliers(stiffness, self.system.damping, 2 * math.pi / omega)
 
+    def modal_coefficients(self, x: np.ndarray, omega: float) -> np.ndarray:
+        """Complex modal coefficients y_j, j = 0..H, of the orbit x (y(t) = y_0 + 2 Re
+        sum_j y_j e^{i j omega t}): y_j = D_j^-1 (f_j - B^T r_j), shape (H + 1, n)."""
+        s = self.system
+        h = self.harmonics
+        deflection, force, _ = self.signals(x)
+        r = self.analysis @ (self.sign * force - s.mean_stiffness * deflection)
+        r_complex = np.zeros((h + 1, self.n_mesh), dtype=complex)
+        r_complex[0] = r[0]
+        r_complex[1:] = 0.5 * (r[1 : h + 1] - 1j * r[h + 1 :])
+        forcing = np.zeros((h + 1, s.size), dtype=complex)
+        forcing[0] = s.force
+        if s.harmonic_force is not None:
+            extra = s.harmonic_force[:h]
+            forcing[1 : 1 + extra.shape[0]] = extra
+        j = np.arange(h + 1)[:, None, None]
+        d = (
+            np.diag(s.eigenvalues)[None]
+            - (j * omega) ** 2 * np.eye(s.size)[None]
+            + 1j * j * omega * s.damping[None]
+        )
+        rhs = forcing - r_complex @ s.mesh_rows
+        return np.linalg.solve(d, rhs[..., None])[..., 0]
+
     def static_guess(self) -> np.ndarray:
         """The static deflection at mean stiffness as a start (harmonics 1..H zero)."""
         x = np.zeros((2 * self.harmonics + 1, self.n_mesh))
@@ -441,10 +465,10 @@ def continue_response(
             max_points=max_points,
         )
         records = [_point_record(problem, x) for x in branch.states]
-        multiplier = np.full(branch.parameter.size, np.nan)
+        multiplier = np.full(branch.parameter.size, np.nan, dtype=complex)
         if stability:
             for i, (x, w) in enumerate(zip(branch.states, branch.parameter)):
-                multiplier[i] = float(np.abs(problem.multipliers(x, w, segments)[0]))
+                multiplier[i] = problem.multipliers(x, w, segments)[0]
     per_rpm = system.omega(1.0)
     turning = np.zeros(branch.parameter.size, dtype=np.int8)
     for fold in branch.turning:
@@ -505,10 +529,14 @@ def _dataset(
         "coast_contact": (per_mesh, stack("coast").astype(np.int8),
                           {"units": "1", "long_name": "1 where the coast flanks meet in "
                            "the period (back-side impact)"}),
-        "floquet_multiplier": ("point", multiplier,
+        "floquet_multiplier": ("point", np.abs(multiplier),
                                {"units": "1", "long_name": "largest Floquet multiplier "
                                 "modulus of the linearised periodic system"}),
-        "stable": ("point", (multiplier < 1.0).astype(np.int8),
+        "floquet_argument": ("point", np.angle(multiplier),
+                             {"units": "rad", "long_name": "argument of the largest Floquet "
+                              "multiplier: 0 where it leaves the unit circle at +1 (fold), "
+                              "pi at -1 (period doubling), else a torus (Neimark-Sacker)"}),
+        "stable": ("point", (np.abs(multiplier) < 1.0).astype(np.int8),
                    {"units": "1", "long_name": "1 where every Floquet multiplier lies "
                     "inside the unit circle"}),
         "turning": ("point", turning,
