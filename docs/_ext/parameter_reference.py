@@ -54,7 +54,7 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
         "Stages on one housing and the couplings between them.",
         (
             "model.gearbox.Gearbox",
-            "model.components.PlanetaryStage",
+            "model.planetary.PlanetaryStage",
             "model.gearbox.ParallelStage",
             "model.gearbox.ShaftInertia",
             "model.gearbox.RigidLink",
@@ -65,9 +65,9 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
         "Bodies and gears",
         "Rigid bodies: their inertia, and for gears their radii or their involute geometry.",
         (
-            "model.components.Body",
-            "model.components.Gear",
-            "model.components.Carrier",
+            "model.bodies.Body",
+            "model.bodies.Gear",
+            "model.bodies.Carrier",
             "model.gear_geometry.GearGeometry",
             "model.gear_geometry.MeshGeometry",
         ),
@@ -76,16 +76,16 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
         "Bearings and meshes",
         "The springs between members: bearings to the housing or the carrier, and meshes.",
         (
-            "model.components.Bearing",
-            "model.components.PlanetBearing",
-            "model.components.Mesh",
+            "model.bearings.Bearing",
+            "model.bearings.PlanetBearing",
+            "model.meshes.Mesh",
         ),
     ),
     (
         "Tooth defects and faults",
         "Weakened or damaged teeth, in a case or a scene.",
         (
-            "model.components.ToothDefect",
+            "model.defects.ToothDefect",
             "model.tooth_faults.RootCrack",
             "model.tooth_faults.Spall",
             "model.tooth_faults.ChippedTooth",
@@ -117,6 +117,7 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
 INTERNAL = {
     "model.scene_settings.SceneSettings": "what assembly reads of a scene, built from it",
     "model.gear_geometry.MeshModelInputs": "quantities derived from gear geometry",
+    "model.plausibility.PlausibleRange": "a row of the plausible-range table, not an input",
 }
 """Dataclasses of :mod:`pygear.model` that a case file never writes, and why."""
 

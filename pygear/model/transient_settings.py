@@ -295,11 +295,10 @@ class Probe:
     quantity: str
     target: str = ""
     name: str | None = None
-    _origin: str = field(default="", repr=False, compare=False, kw_only=True)
+    _origin: str = field(default="", repr=False, compare=False, init=False)
 
     def __post_init__(self) -> None:
-        if not self._origin:
-            object.__setattr__(self, "_origin", written_at())
+        object.__setattr__(self, "_origin", written_at())
 
     @property
     def origin(self) -> str:
