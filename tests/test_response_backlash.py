@@ -11,12 +11,16 @@ import pytest
 import scipy.integrate
 
 from pygear import Bearing, Case, Gear, Gearbox, Mesh, ParallelStage, RayleighDamping, Scene
-from pygear.analysis.response import response_system, solve_hill
-from pygear.analysis.response.continuation import newton
+from pygear.analysis.response import response_system, solve_hill, sweep_system
+from pygear.analysis.response.continuation import (
+    case_law,
+    continue_response,
+    newton,
+    separated_response,
+)
 from pygear.analysis.response.nonlinear import (
     BacklashLaw,
     BacklashProblem,
-    continue_response,
     oscillator_system,
 )
 from pygear.assembly.mesh_backlash import line_of_action_backlash
@@ -389,3 +393,26 @@ def test_gearbox_orbit_multipliers_match_the_flow():
     assert expected.real < -1.2 and abs(expected.imag) < 1e-6  # period doubling
     assert got.real == pytest.approx(expected.real, rel=2e-2)
     assert abs(got.imag) < 1e-9
+
+
+def test_linear_sweep_hook_continues_where_the_teeth_part():
+    """The hook for the linear sweep: nothing where the linear solution keeps the teeth
+    together (5000-6500 rpm), and where it parts them, a softening loop whose up-sweep
+    fold lies past the first speed the linear sweep separates (on the lower branch the
+    balance is the linear one until the teeth part) and whose down-sweep fold lies
+    below it; every point of the loop's return branch has the teeth parting."""
+    case = _pair_case()
+    system = response_system(case, case.scenes[0], samples=2**12, torque=50.0)
+    law = case_law(case, system)
+    assert law.backlash == pytest.approx([0.1e-3 * math.cos(math.radians(20))])
+    quiet = sweep_system(system, np.linspace(5000.0, 6500.0, 7), harmonics=16, stability=False)
+    assert separated_response(system, quiet, law) is None
+    speeds = np.linspace(6500.0, 7500.0, 41)
+    linear = sweep_system(system, speeds, harmonics=16, stability=False)
+    onset = speeds[np.argmax(linear.separation.values[:, 0])]
+    dataset = separated_response(system, linear, law, stability=False)
+    (up,), (down,) = dataset.attrs["up_sweep_jumps"], dataset.attrs["down_sweep_jumps"]
+    assert onset - (speeds[1] - speeds[0]) <= up and down < onset
+    first, second = np.flatnonzero(dataset.turning.values)
+    assert dataset.separation.values[first + 1 : second + 1, 0].all()
+    assert dataset.speed.values[-1] >= 7500.0 and dataset.attrs["finished"]

@@ -17,17 +17,42 @@ Stability Analysis*, §4.4-4.6):
 - turning points: where the tangent's p component changes sign; located on the cubic
   Hermite interpolant of p(s) between the two points, whose slope vanishes there (the
   error of that location is O(h^4) on a smooth branch).
+
+:func:`continue_response` follows the contact-loss balance of :mod:`.nonlinear` in
+speed this way and returns the branch, its folds and its stability as a Dataset;
+:func:`case_law` and :func:`separated_response` connect it to a case and to the linear
+sweep of :mod:`.sweep`.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import xarray as xr
 
-__all__ = ["Branch", "continue_branch", "newton"]
+from ...assembly.mesh_backlash import line_of_action_backlash
+from ...errors import CaseError
+from ...model.case import Case, Scene
+from .floquet import DEFAULT_SEGMENTS
+from .nonlinear import BacklashLaw, BacklashProblem
+from .system import ResponseSystem
+
+__all__ = [
+    "Branch",
+    "case_law",
+    "continue_branch",
+    "continue_response",
+    "newton",
+    "separated_response",
+]
+
+SEPARATION_SAMPLES = 1024
+"""Instants per period at which the reported signals are read."""
 
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """(x, p) -> (R, dR/dx, dR/dp)."""
@@ -297,16 +322,254 @@ def _turning_points(branch: Branch, p_scale: float, resolution: float) -> list[d
         kind = 1 if tp[i] > 0 else -1
         value = max(value, p[i], p[i + 1]) if kind > 0 else min(value, p[i], p[i + 1])
         if kept and kept[-1]["kind"] == -kind and abs(kept[-1]["scaled"] - value) < resolution:
-            gone = kept.pop()
+            kept.pop()
             if kept and kept[-1]["kind"] == kind and abs(kept[-1]["scaled"] - value) < resolution:
                 best = max if kind > 0 else min
                 kept[-1]["scaled"] = best(kept[-1]["scaled"], value)
-            del gone
             continue
         state = (1 - u) * branch.states[i] + u * branch.states[i + 1]
         kept.append({"index": int(i), "scaled": value, "state": state, "kind": kind})
-    return [
-        {"index": t["index"], "parameter": t["scaled"] * p_scale, "state": t["state"],
-         "kind": t["kind"]}
-        for t in kept
-    ]  # fmt: skip
+    for t in kept:
+        t["parameter"] = t.pop("scaled") * p_scale
+    return kept
+
+
+def continue_response(
+    system: ResponseSystem,
+    law: BacklashLaw,
+    speeds: tuple[float, float],
+    *,
+    harmonics: int = 16,
+    samples: int | None = None,
+    step: float = 0.02,
+    step_max: float = 0.05,
+    tolerance: float = 1e-10,
+    stability: bool = True,
+    segments: int = DEFAULT_SEGMENTS,
+    max_points: int = 2000,
+    start: np.ndarray | None = None,
+) -> xr.Dataset:
+    """The periodic steady state with contact loss, continued in speed.
+
+    Newton's method finds the solution at the first speed (from ``start``, else the
+    linear solution there), and pseudo-arclength continuation follows it to the
+    second, through every turning point.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The linear model.
+    law : BacklashLaw
+        The flank law of every mesh.
+    speeds : tuple of float
+        First and last input speed [rpm] (either order).
+    harmonics : int
+        H, harmonics of the fundamental balanced.
+    samples : int, optional
+        AFT instants per period.
+    step, step_max : float
+        First and largest arclength step, in deflections over the largest static mesh
+        deflection and frequencies over the first.
+    tolerance : float
+        Residual of every point over the largest static mesh deflection.
+    stability : bool
+        Floquet multipliers of every point (the contact state's stiffness per instant).
+    segments : int
+        Intervals of constant stiffness of the monodromy.
+    max_points : int
+        Branch points at most.
+    start : ndarray, optional
+        Unknowns at the first speed to start Newton from.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``point`` and ``mesh``: ``speed``, ``frequency``, mesh force max / min /
+        mean, DTE RMS and peak to peak, ``separation`` and ``coast_contact`` flags,
+        ``floquet_multiplier``, ``stable``, ``turning`` (+1 where an up sweep jumps
+        off the branch, -1 where a down sweep does, at the point before the fold); the
+        attributes ``up_sweep_jumps`` and ``down_sweep_jumps`` [rpm] list the folds.
+    """
+    started = time.perf_counter()
+    problem = BacklashProblem(system, law, harmonics, samples)
+    w0, w1 = system.omega(float(speeds[0])), system.omega(float(speeds[1]))
+    scale = float(np.abs(system.static_deflection()).max())
+    if not scale > 0:
+        raise ValueError("the system carries no static mesh load to scale the deflections")
+    with _thread_limit():
+        branch = continue_branch(
+            problem.residual,
+            problem.linear_solution(w0) if start is None else start,
+            w0,
+            w1,
+            x_scale=scale,
+            p_scale=w0,
+            step=step,
+            step_max=step_max,
+            tolerance=tolerance,
+            max_points=max_points,
+        )
+        records = [problem.summary(x, SEPARATION_SAMPLES) for x in branch.states]
+        multiplier = np.full(branch.parameter.size, np.nan, dtype=complex)
+        if stability:
+            for i, (x, w) in enumerate(zip(branch.states, branch.parameter)):
+                multiplier[i] = problem.multipliers(x, w, segments)[0]
+    per_rpm = system.omega(1.0)
+    turning = np.zeros(branch.parameter.size, dtype=np.int8)
+    for fold in branch.turning:
+        turning[fold["index"]] = fold["kind"]
+    wall = time.perf_counter() - started
+    return _dataset(system, problem, branch, records, multiplier, turning, per_rpm, wall)
+
+
+def case_law(
+    case: Case, system: ResponseSystem, scene: Scene | None = None, smoothing: float = 0.0
+) -> BacklashLaw:
+    """The flank law of a case's meshes: the normal backlash the kernel's
+    ``tooth_separation`` effect uses (:func:`.line_of_action_backlash`).
+
+    Parameters
+    ----------
+    case : Case
+        The case the system was built from.
+    system : ResponseSystem
+        Its response model (the assembled meshes, in order).
+    scene : Scene, optional
+        The scene whose parameter changes apply (as given to :func:`.response_system`).
+    smoothing : float
+        Regularisation of the contact kinks [m] (:class:`BacklashLaw`).
+
+    Raises
+    ------
+    CaseError
+        A mesh has no backlash.
+    """
+    if system.model is None:
+        raise CaseError("the response system carries no assembled model to read meshes from")
+    seen = case.for_scene(scene) if scene is not None else case
+    backlash = line_of_action_backlash(seen, system.model, "tooth_separation")
+    return BacklashLaw(backlash, smoothing)
+
+
+def separated_response(
+    system: ResponseSystem, linear: xr.Dataset, law: BacklashLaw, **options: object
+) -> xr.Dataset | None:
+    """The contact-loss response over a linear sweep's speed range, where it separates.
+
+    The hook for :func:`.sweep.sweep_system`: when its dataset flags tooth separation
+    at any speed, the branch with the flank law is continued over the sweep's speed
+    range from its lowest speed, so every fold and branch between them comes out.
+
+    Parameters
+    ----------
+    system : ResponseSystem
+        The model the linear sweep balanced.
+    linear : xarray.Dataset
+        The linear sweep (``speed`` and ``separation``).
+    law : BacklashLaw
+        The flank law (:func:`case_law`).
+    **options
+        Passed to :func:`continue_response`.
+
+    Returns
+    -------
+    xarray.Dataset or None
+        None when no mesh separates in the linear sweep.
+    """
+    if not bool(np.any(linear["separation"].values)):
+        return None
+    speeds = linear["speed"].values
+    return continue_response(system, law, (float(speeds.min()), float(speeds.max())), **options)
+
+
+def _thread_limit() -> contextlib.AbstractContextManager:
+    """One BLAS thread: the matrices are small, and two threads on a shared machine
+    slow their factorisations down (as in :mod:`.sweep`)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - a dependency
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
+def _dataset(
+    system: ResponseSystem,
+    problem: BacklashProblem,
+    branch: Branch,
+    records: list[dict],
+    multiplier: np.ndarray,
+    turning: np.ndarray,
+    per_rpm: float,
+    wall: float,
+) -> xr.Dataset:
+    """The branch as an ``xarray.Dataset`` (see :func:`continue_response`)."""
+
+    def stack(key: str) -> np.ndarray:
+        return np.array([r[key] for r in records])
+
+    per_mesh = ("point", "mesh")
+    speed = branch.parameter / per_rpm
+    data = {
+        "speed": ("point", speed, {"units": "rpm", "long_name": "input member speed"}),
+        "frequency": ("point", branch.parameter,
+                      {"units": "rad/s", "long_name": "fundamental angular frequency"}),
+        "arclength": ("point", branch.arclength,
+                      {"units": "1", "long_name": "scaled arclength along the branch"}),
+        "mesh_force_max": (per_mesh, stack("force_max"),
+                           {"units": "N", "long_name": "largest contact force over a period"}),
+        "mesh_force_min": (per_mesh, stack("force_min"),
+                           {"units": "N", "long_name": "smallest contact force over a period "
+                            "(< 0 on the coast flank)"}),
+        "mesh_force_mean": (per_mesh, stack("force_mean"),
+                            {"units": "N", "long_name": "mean contact force"}),
+        "dte_rms": (per_mesh, stack("dte_rms"),
+                    {"units": "m", "long_name": "dynamic transmission error, RMS about its "
+                     "mean along the line of action"}),
+        "dte_peak_to_peak": (per_mesh, stack("dte_pp"),
+                             {"units": "m", "long_name": "dynamic transmission error, peak "
+                              "to peak"}),
+        "separation": (per_mesh, stack("separation").astype(np.int8),
+                       {"units": "1", "long_name": "1 where the drive flanks part in the "
+                        "period"}),
+        "coast_contact": (per_mesh, stack("coast").astype(np.int8),
+                          {"units": "1", "long_name": "1 where the coast flanks meet in "
+                           "the period (back-side impact)"}),
+        "floquet_multiplier": ("point", np.abs(multiplier),
+                               {"units": "1", "long_name": "largest Floquet multiplier "
+                                "modulus of the linearised periodic system"}),
+        "floquet_argument": ("point", np.angle(multiplier),
+                             {"units": "rad", "long_name": "argument of the largest Floquet "
+                              "multiplier: 0 where it leaves the unit circle at +1 (fold), "
+                              "pi at -1 (period doubling), else a torus (Neimark-Sacker)"}),
+        "stable": ("point", (np.abs(multiplier) < 1.0).astype(np.int8),
+                   {"units": "1", "long_name": "1 where every Floquet multiplier lies "
+                    "inside the unit circle"}),
+        "turning": ("point", turning,
+                    {"units": "1", "long_name": "+1 before a fold where an up sweep jumps, "
+                     "-1 before one where a down sweep jumps"}),
+        "deflection_coefficients": (("point", "term", "mesh"),
+                                    branch.states.reshape(speed.size, -1, len(system.names)),
+                                    {"units": "m", "long_name": "real Fourier coefficients of "
+                                     "the mesh deflection: a_0, a_1..a_H (cos), b_1..b_H (sin)"}),
+        "iterations": ("point", branch.iterations.astype(np.int32),
+                       {"units": "1", "long_name": "Newton corrector iterations"}),
+    }  # fmt: skip
+    coords = {
+        "point": ("point", np.arange(speed.size, dtype=np.int32), {"long_name": "branch point"}),
+        "mesh": ("mesh", np.array(system.names, dtype=object), {"long_name": "mesh"}),
+    }
+    folds = [(f["parameter"] / per_rpm, f["kind"]) for f in branch.turning]
+    attrs = {
+        **system.attrs,
+        "method": "AFT harmonic balance with the flank law, pseudo-arclength continuation "
+        "in speed, Floquet multipliers of the contact state's stiffness",
+        "harmonics": problem.harmonics,
+        "aft_samples": problem.samples,
+        "backlash": np.asarray(problem.law.backlash, dtype=np.float64),
+        "smoothing": float(problem.law.smoothing),
+        "up_sweep_jumps": np.array([s for s, k in folds if k > 0]),
+        "down_sweep_jumps": np.array([s for s, k in folds if k < 0]),
+        "finished": int(branch.finished),
+        "wall_s": wall,
+    }
+    return xr.Dataset(data, coords, attrs)

@@ -42,27 +42,15 @@ vector field has no jump); its Floquet multipliers come from :mod:`.floquet`.
 
 from __future__ import annotations
 
-import contextlib
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 
-from .continuation import Branch, continue_branch
 from .floquet import DEFAULT_SEGMENTS, floquet_multipliers, segment_means
 from .system import ResponseSystem
 
-__all__ = [
-    "BacklashLaw",
-    "BacklashProblem",
-    "continue_response",
-    "oscillator_system",
-]
-
-SEPARATION_SAMPLES = 1024
-"""Instants per period at which the reported signals are read."""
+__all__ = ["BacklashLaw", "BacklashProblem", "oscillator_system"]
 
 
 @dataclass(frozen=True)
@@ -352,6 +340,33 @@ class BacklashProblem:
         rhs = forcing - r_complex @ s.mesh_rows
         return np.linalg.solve(d, rhs[..., None])[..., 0]
 
+    def summary(self, x: np.ndarray, samples: int) -> dict:
+        """Per-mesh force extremes and mean, DTE RMS and peak to peak, and whether the
+        drive flanks part (``separation``) or the coast flanks meet (``coast``), read
+        at ``samples`` instants of the period."""
+        deflection, force, _ = self.signals(x, samples)
+        compression = self.sign * deflection
+        dte = deflection - deflection.mean(axis=0)
+        return {
+            "force_max": force.max(axis=0),
+            "force_min": force.min(axis=0),
+            "force_mean": force.mean(axis=0),
+            "dte_rms": np.sqrt((dte**2).mean(axis=0)),
+            "dte_pp": deflection.max(axis=0) - deflection.min(axis=0),
+            "separation": (compression <= 0).any(axis=0),
+            "coast": (compression < -np.asarray(self.law.backlash)).any(axis=0),
+        }
+
+    def linear_solution(self, omega: float) -> np.ndarray:
+        """The balance with every mesh's flanks held together (the flank law with b = 0
+        is g(c) = c): one Newton step from any start solves it exactly."""
+        linear = BacklashProblem(
+            self.system, BacklashLaw(np.zeros(self.n_mesh)), self.harmonics, self.samples
+        )
+        x = linear.static_guess()
+        r, jac, _ = linear.residual(x, omega)
+        return x - np.linalg.solve(jac, r)
+
     def static_guess(self) -> np.ndarray:
         """The static deflection at mean stiffness as a start (harmonics 1..H zero)."""
         x = np.zeros((2 * self.harmonics + 1, self.n_mesh))
@@ -369,202 +384,3 @@ class BacklashProblem:
         x[1 : top + 1] = 2 * deflection[centre + 1 : centre + top + 1].real
         x[h + 1 : h + top + 1] = -2 * deflection[centre + 1 : centre + top + 1].imag
         return x.reshape(-1)
-
-
-def _point_record(problem: BacklashProblem, x: np.ndarray) -> dict:
-    """What the dataset keeps of one branch point."""
-    deflection, force, _ = problem.signals(x, SEPARATION_SAMPLES)
-    compression = problem.sign * deflection
-    backlash = np.asarray(problem.law.backlash, dtype=np.float64)
-    dte = deflection - deflection.mean(axis=0)
-    return {
-        "force_max": force.max(axis=0),
-        "force_min": force.min(axis=0),
-        "force_mean": force.mean(axis=0),
-        "dte_rms": np.sqrt((dte**2).mean(axis=0)),
-        "dte_pp": deflection.max(axis=0) - deflection.min(axis=0),
-        "deflection_mean": deflection.mean(axis=0),
-        "separation": (compression <= 0).any(axis=0),
-        "coast": (compression < -backlash).any(axis=0),
-    }
-
-
-def continue_response(
-    system: ResponseSystem,
-    law: BacklashLaw,
-    speeds: tuple[float, float],
-    *,
-    harmonics: int = 16,
-    samples: int | None = None,
-    step: float = 0.02,
-    step_max: float = 0.05,
-    tolerance: float = 1e-10,
-    stability: bool = True,
-    segments: int = DEFAULT_SEGMENTS,
-    max_points: int = 2000,
-    start: np.ndarray | None = None,
-) -> xr.Dataset:
-    """The periodic steady state with contact loss, continued in speed.
-
-    Newton's method finds the solution at the first speed (from ``start`` or the
-    static deflection), and pseudo-arclength continuation (:mod:`.continuation`)
-    follows it to the second, through every turning point.
-
-    Parameters
-    ----------
-    system : ResponseSystem
-        The linear model.
-    law : BacklashLaw
-        The flank law of every mesh.
-    speeds : tuple of float
-        First and last input speed [rpm] (either order).
-    harmonics : int
-        H, harmonics of the fundamental balanced.
-    samples : int, optional
-        AFT instants per period.
-    step, step_max : float
-        First and largest arclength step, in deflections over the largest static mesh
-        deflection and frequencies over the first.
-    tolerance : float
-        Residual of every point over the largest static mesh deflection.
-    stability : bool
-        Floquet multipliers of every point (the contact state's stiffness per instant).
-    segments : int
-        Intervals of constant stiffness of the monodromy.
-    max_points : int
-        Branch points at most.
-    start : ndarray, optional
-        Unknowns at the first speed to start Newton from.
-
-    Returns
-    -------
-    xarray.Dataset
-        Over ``point`` and ``mesh``: ``speed``, ``frequency``, mesh force max / min /
-        mean, DTE RMS and peak to peak, ``separation`` and ``coast_contact`` flags,
-        ``floquet_multiplier``, ``stable``, ``turning`` (+1 where an up sweep jumps
-        off the branch, -1 where a down sweep does, at the point before the fold); the
-        attributes ``up_sweep_jumps`` and ``down_sweep_jumps`` [rpm] list the folds.
-    """
-    started = time.perf_counter()
-    problem = BacklashProblem(system, law, harmonics, samples)
-    w0, w1 = system.omega(float(speeds[0])), system.omega(float(speeds[1]))
-    scale = float(np.abs(system.static_deflection()).max())
-    if not scale > 0:
-        raise ValueError("the system carries no static mesh load to scale the deflections")
-    with _thread_limit():
-        branch = continue_branch(
-            problem.residual,
-            problem.static_guess() if start is None else start,
-            w0,
-            w1,
-            x_scale=scale,
-            p_scale=w0,
-            step=step,
-            step_max=step_max,
-            tolerance=tolerance,
-            max_points=max_points,
-        )
-        records = [_point_record(problem, x) for x in branch.states]
-        multiplier = np.full(branch.parameter.size, np.nan, dtype=complex)
-        if stability:
-            for i, (x, w) in enumerate(zip(branch.states, branch.parameter)):
-                multiplier[i] = problem.multipliers(x, w, segments)[0]
-    per_rpm = system.omega(1.0)
-    turning = np.zeros(branch.parameter.size, dtype=np.int8)
-    for fold in branch.turning:
-        turning[fold["index"]] = fold["kind"]
-    wall = time.perf_counter() - started
-    return _dataset(system, problem, branch, records, multiplier, turning, per_rpm, wall)
-
-
-def _thread_limit() -> contextlib.AbstractContextManager:
-    """One BLAS thread: the matrices are small, and two threads on a shared machine
-    slow their factorisations down (as in :mod:`.sweep`)."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - a dependency
-        return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
-
-
-def _dataset(
-    system: ResponseSystem,
-    problem: BacklashProblem,
-    branch: Branch,
-    records: list[dict],
-    multiplier: np.ndarray,
-    turning: np.ndarray,
-    per_rpm: float,
-    wall: float,
-) -> xr.Dataset:
-    """The branch as an ``xarray.Dataset`` (see :func:`continue_response`)."""
-
-    def stack(key: str) -> np.ndarray:
-        return np.array([r[key] for r in records])
-
-    per_mesh = ("point", "mesh")
-    speed = branch.parameter / per_rpm
-    data = {
-        "speed": ("point", speed, {"units": "rpm", "long_name": "input member speed"}),
-        "frequency": ("point", branch.parameter,
-                      {"units": "rad/s", "long_name": "fundamental angular frequency"}),
-        "arclength": ("point", branch.arclength,
-                      {"units": "1", "long_name": "scaled arclength along the branch"}),
-        "mesh_force_max": (per_mesh, stack("force_max"),
-                           {"units": "N", "long_name": "largest contact force over a period"}),
-        "mesh_force_min": (per_mesh, stack("force_min"),
-                           {"units": "N", "long_name": "smallest contact force over a period "
-                            "(< 0 on the coast flank)"}),
-        "mesh_force_mean": (per_mesh, stack("force_mean"),
-                            {"units": "N", "long_name": "mean contact force"}),
-        "dte_rms": (per_mesh, stack("dte_rms"),
-                    {"units": "m", "long_name": "dynamic transmission error, RMS about its "
-                     "mean along the line of action"}),
-        "dte_peak_to_peak": (per_mesh, stack("dte_pp"),
-                             {"units": "m", "long_name": "dynamic transmission error, peak "
-                              "to peak"}),
-        "separation": (per_mesh, stack("separation").astype(np.int8),
-                       {"units": "1", "long_name": "1 where the drive flanks part in the "
-                        "period"}),
-        "coast_contact": (per_mesh, stack("coast").astype(np.int8),
-                          {"units": "1", "long_name": "1 where the coast flanks meet in "
-                           "the period (back-side impact)"}),
-        "floquet_multiplier": ("point", np.abs(multiplier),
-                               {"units": "1", "long_name": "largest Floquet multiplier "
-                                "modulus of the linearised periodic system"}),
-        "floquet_argument": ("point", np.angle(multiplier),
-                             {"units": "rad", "long_name": "argument of the largest Floquet "
-                              "multiplier: 0 where it leaves the unit circle at +1 (fold), "
-                              "pi at -1 (period doubling), else a torus (Neimark-Sacker)"}),
-        "stable": ("point", (np.abs(multiplier) < 1.0).astype(np.int8),
-                   {"units": "1", "long_name": "1 where every Floquet multiplier lies "
-                    "inside the unit circle"}),
-        "turning": ("point", turning,
-                    {"units": "1", "long_name": "+1 before a fold where an up sweep jumps, "
-                     "-1 before one where a down sweep jumps"}),
-        "deflection_coefficients": (("point", "term", "mesh"),
-                                    branch.states.reshape(speed.size, -1, len(system.names)),
-                                    {"units": "m", "long_name": "real Fourier coefficients of "
-                                     "the mesh deflection: a_0, a_1..a_H (cos), b_1..b_H (sin)"}),
-        "iterations": ("point", branch.iterations.astype(np.int32),
-                       {"units": "1", "long_name": "Newton corrector iterations"}),
-    }  # fmt: skip
-    coords = {
-        "point": ("point", np.arange(speed.size, dtype=np.int32), {"long_name": "branch point"}),
-        "mesh": ("mesh", np.array(system.names, dtype=object), {"long_name": "mesh"}),
-    }
-    folds = [(f["parameter"] / per_rpm, f["kind"]) for f in branch.turning]
-    attrs = {
-        **system.attrs,
-        "method": "AFT harmonic balance with the flank law, pseudo-arclength continuation "
-        "in speed, Floquet multipliers of the contact state's stiffness",
-        "harmonics": problem.harmonics,
-        "aft_samples": problem.samples,
-        "backlash": np.asarray(problem.law.backlash, dtype=np.float64),
-        "smoothing": float(problem.law.smoothing),
-        "up_sweep_jumps": np.array([s for s, k in folds if k > 0]),
-        "down_sweep_jumps": np.array([s for s, k in folds if k < 0]),
-        "finished": int(branch.finished),
-        "wall_s": wall,
-    }
-    return xr.Dataset(data, coords, attrs)
