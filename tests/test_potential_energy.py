@@ -523,3 +523,48 @@ def test_nrel_stage1_ring_mesh_with_its_rim_agrees_with_iso6336():
     iso = iso6336_mesh_stiffness(planetary_mesh_geometry(stage, "ring"))
     ratio = mesh_law(stage, "ring").mean_stiffness / iso.mesh_stiffness_alpha_total
     assert 0.85 < ratio < 1.15
+
+
+def test_helical_ring_pair_is_the_sum_of_its_shifted_transverse_slices():
+    # the rim enters a helical pair slice by slice: each of n slices is the whole-face
+    # transverse pair at its own position, shifted by (j + 1/2) eps_beta / n, over n.
+    # Rebuilt so from the kernel's transverse compliances, the rigid pair must be the
+    # kernel's (linear interpolation of 801 samples: ~3e-7), in both driving directions.
+    planet = GearGeometry(31, MODULE, WIDTH, helix_angle_deg=15.0)
+    ring = GearGeometry(81, MODULE, WIDTH, internal=True, tip_alteration=-0.1, helix_angle_deg=15.0)
+    pair = MeshGeometry(planet, ring)
+    for driving in (1, 2):
+        rigid = mesh_stiffness(pair, (PINION_BODY, ToothBody(YOUNG, POISSON, 0.0)),
+                               driving_gear=driving, n_sample=801)  # fmt: skip
+        k = 1 / sum(rigid.compliance.values())
+        transverse = np.linspace(0.0, rigid.contact_ratio, k.size)
+        shifts = (np.arange(100) + 0.5) * rigid.overlap_ratio / 100
+        points = rigid.position[:, None] - shifts[None, :]
+        rebuilt = np.interp(points, transverse, k, left=0.0, right=0.0).mean(axis=1)
+        assert np.abs(rebuilt - rigid.pair).max() < 1e-5 * rigid.pair.max()
+        rimmed = mesh_stiffness(
+            pair, (PINION_BODY, ToothBody(YOUNG, POISSON, 0.0, rim_radius=0.16)),
+            driving_gear=driving, n_sample=801,
+        )  # fmt: skip
+        assert np.all(rimmed.pair <= rigid.pair * (1 + 1e-12))
+        assert rimmed.mean_stiffness < 0.9 * rigid.mean_stiffness
+
+
+def test_rim_acts_in_series_with_a_damaged_ring_tooth_too():
+    planet = GearGeometry(31, MODULE, WIDTH)
+    ring = GearGeometry(81, MODULE, WIDTH, internal=True, tip_alteration=-0.1)
+    crack = RootCrack(2, 1e-3, 45.0)
+    rigid_body, rim_body = ToothBody(YOUNG, POISSON, 0.0), ToothBody(YOUNG, POISSON, 0.0, 0.16)
+    rigid = mesh_stiffness(MeshGeometry(planet, ring), (PINION_BODY, rigid_body), fault=crack)
+    rimmed = mesh_stiffness(MeshGeometry(planet, ring), (PINION_BODY, rim_body), fault=crack)
+    rim = rimmed.compliance["foundation2"]
+    np.testing.assert_allclose(rimmed.faulty_pair, 1 / (1 / rigid.faulty_pair + rim), rtol=1e-12)
+    np.testing.assert_allclose(rimmed.pair, 1 / (1 / rigid.pair + rim), rtol=1e-12)
+    # the cycle and the damaged window are summed again from the rimmed pairs
+    assert rimmed.mesh.mean() == pytest.approx(rimmed.mean_stiffness, rel=5e-3)
+    outside = rimmed.window_position >= rimmed.total_contact_ratio + 0.01  # crack gone by
+    np.testing.assert_allclose(
+        rimmed.faulty_mesh[outside],
+        np.tile(rimmed.mesh, 3)[: rimmed.faulty_mesh.size][outside],
+        rtol=1e-9,
+    )

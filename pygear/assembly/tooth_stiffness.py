@@ -383,7 +383,12 @@ def mesh_stiffness(
         )
         transverse = sum(compliance.values())
         pair = with_rim(pair, transverse, rim, eps_alpha, eps_beta, slices)
-        faulty = with_rim(faulty, transverse, rim, eps_alpha, eps_beta, slices)
+        if eps_beta > 0:
+            faulty = with_rim(faulty, transverse, rim, eps_alpha, eps_beta, slices)
+        else:  # one slice: the rim in series with the damaged pair itself (0: no contact)
+            faulty = np.divide(
+                faulty, 1.0 + faulty * rim, out=np.zeros_like(faulty), where=faulty > 0
+            )
         compliance["foundation2"] = rim
         cycle, window = _summed(pair, faulty, eps, n_cycle, n_window)
     return MeshStiffness(
