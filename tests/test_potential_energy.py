@@ -568,3 +568,17 @@ def test_rim_acts_in_series_with_a_damaged_ring_tooth_too():
         np.tile(rimmed.mesh, 3)[: rimmed.faulty_mesh.size][outside],
         rtol=1e-9,
     )
+
+
+def test_a_rings_bore_is_named_as_unread_and_its_rim_checked():
+    case = load_case(Path(__file__).resolve().parent.parent / "cases" / "sequential_planetary")
+    with pytest.warns(PlausibilityWarning, match=r"^planetary\.ring\.bore_radius is not read for "
+                      r"a ring .* rim_radius"):  # fmt: skip
+        replace_parameter(case, "planetary.ring.bore_radius", 0.165)
+    # the ring's root circle: m (z/2 + 1.25) = 3 mm * 49.75 = 149.25 mm
+    with pytest.raises(CaseError, match=r"^planetary\.ring\.rim_radius must exceed the ring's "
+                       r"root radius r_f = 149\.2"):  # fmt: skip
+        replace_parameter(case, "planetary.ring.rim_radius", 0.140)
+    with pytest.raises(CaseError, match=r"^planetary\.sun\.rim_radius is the outer radius of a "
+                       r"ring's rim"):  # fmt: skip
+        replace_parameter(case, "planetary.sun.rim_radius", 0.05)

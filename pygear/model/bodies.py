@@ -120,6 +120,13 @@ class Gear(Body):
         if self.bore_radius is not None:
             require_non_negative(f"{path}.bore_radius", self.bore_radius)
             warn_if_implausible(f"{path}.bore_radius", "radius", self.bore_radius, zero_ok=True)
+            if self.bore_radius and getattr(self.geometry, "internal", False) is True:
+                warnings.warn(
+                    f"{path}.bore_radius is not read for a ring (internal geometry): the "
+                    f"outer radius of its rim is rim_radius",
+                    PlausibilityWarning,
+                    stacklevel=3,
+                )
         if self.rim_radius is not None:
             require_non_negative(f"{path}.rim_radius", self.rim_radius)
             self._check_rim(path)
