@@ -110,6 +110,10 @@ def _limiting(ds: xr.Dataset, rating: Rating, result: GearboxRating) -> tuple[st
         s_f = float(ds.S_F.sel(gear=gear))
         margins.append((s_h / rating.required_sh, f"{gear} pitting (S_H {s_h:.3f})"))
         margins.append((s_f / rating.required_sf, f"{gear} bending (S_F {s_f:.3f})"))
+        damage = float(ds.damage.sel(gear=gear))
+        if damage > 0.0:
+            life = float(ds.life_h.sel(gear=gear))
+            margins.append((1.0 / damage, f"{gear} service life ({life:.3g} h)"))
     for bearing, values in result.bearings.items():
         margins.append((values["L10m_h"] / rating.service_life_h,
                         f"{bearing} (L10m {values['L10m_h']:.3g} h)"))
