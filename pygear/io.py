@@ -3,6 +3,10 @@
 Every file is written under a temporary name in its target directory and renamed
 only when complete, so a crash never leaves a file that looks whole.  xarray is
 imported by :func:`write_netcdf` when it writes, so the atomic helpers cost no import.
+
+This module is longer than 600 lines because the CF layout of a file, its atomic
+write and the streamed file's append and completeness mark (``complete``) share one
+set of encoding rules, which readers (:func:`index_labels`) check.
 """
 
 from __future__ import annotations
@@ -37,6 +41,13 @@ __all__ = [
     "PROVENANCE",
     "COMPRESSION_LEVEL",
     "COMPRESSED_SIZE",
+    "COMPLETE",
+    "IncompleteFileError",
+    "append_streamed",
+    "check_complete",
+    "create_streamed",
+    "finish_streamed",
+    "netcdf_layout",
     "WriteInterrupted",
     "atomic_path",
     "check_suffix",
@@ -337,6 +348,7 @@ def index_labels(dataset: xr.Dataset) -> xr.Dataset:
     :func:`open_mfdataset` and ``engine="pygear"`` apply it."""
     import numpy as np
 
+    check_complete(dataset)
     text = [name for name, variable in dataset.variables.items() if variable.dtype.kind in "OUS"]
     if text:  # labels are small: in memory, so Dask never chunks text (it cannot size it)
         dataset = dataset.assign_coords(
@@ -557,6 +569,34 @@ def write_netcdf(
     """
     if isinstance(compression, bool) or compression not in range(10):
         raise ValueError(f"compression must be a zlib level 0-9 (got {compression!r})")
+    dataset, encoding = netcdf_layout(
+        dataset,
+        title=title,
+        input_hash=input_hash,
+        compression=compression,
+        case_json=case_json,
+        provenance=provenance,
+    )
+    path = Path(path)
+    with atomic_path(path) as temporary:
+        dataset.to_netcdf(temporary, engine="netcdf4", encoding=encoding)
+    return path
+
+
+def netcdf_layout(
+    dataset: xr.Dataset,
+    *,
+    title: str,
+    input_hash: str | None = None,
+    compression: int = COMPRESSION_LEVEL,
+    case_json: str | None = None,
+    provenance: Mapping | None = None,
+) -> tuple[xr.Dataset, dict]:
+    """The dataset :func:`write_netcdf` writes (global attributes, CF encoding of time
+    and labels, the ``scene`` coordinate) and its encoding; the streamed writer of
+    :mod:`pygear.runs.streaming` lays its file out with it too."""
+    if isinstance(compression, bool) or compression not in range(10):
+        raise ValueError(f"compression must be a zlib level 0-9 (got {compression!r})")
     stamp = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     dataset = dataset.copy()
     for key in PROVENANCE:
@@ -588,7 +628,80 @@ def write_netcdf(
                 encoding.setdefault(name, {}).update(
                     {"zlib": True, "complevel": compression, "shuffle": True}
                 )
-    path = Path(path)
-    with atomic_path(path) as temporary:
-        dataset.to_netcdf(temporary, engine="netcdf4", encoding=encoding)
-    return path
+    return dataset, encoding
+
+
+COMPLETE = "complete"
+"""Global attribute of a streamed file: 0 while it is written (or when its run stopped
+before the end), 1 once whole.  :func:`index_labels` (so :func:`open_dataset`,
+``engine="pygear"`` and ``pygear analyze``) refuses a file with ``complete = 0``."""
+
+
+class IncompleteFileError(ValueError):
+    """A streamed run's file that is not whole yet (``complete = 0``)."""
+
+
+def check_complete(dataset: xr.Dataset, name: str = "the file") -> None:
+    """Raise :class:`IncompleteFileError` for a file marked ``complete = 0``."""
+    flag = dataset.attrs.get(COMPLETE)
+    if flag is not None and int(flag) == 0:
+        raise IncompleteFileError(
+            f"{name} is an incomplete run (complete = 0: written while the run goes, "
+            "stopped before its end); `pygear run --resume` completes it"
+        )
+
+
+def create_streamed(
+    path: Path,
+    dataset: xr.Dataset,
+    encoding: dict,
+    time_chunk: int,
+    compression: int = COMPRESSION_LEVEL,
+) -> None:
+    """Write ``dataset`` (laid out by :func:`netcdf_layout`) to ``path`` with ``time``
+    unlimited, every numeric variable over time chunked by ``time_chunk`` samples and
+    compressed as :func:`write_netcdf` compresses a long one, and ``complete = 0``: the
+    start of a streamed file, grown by :func:`append_streamed`."""
+    encoding = {name: dict(value) for name, value in encoding.items()}
+    for name, variable in dataset.variables.items():
+        if "time" in variable.dims and variable.dtype.kind in "iuf":
+            chunks = tuple(time_chunk if d == "time" else n for d, n in variable.sizes.items())
+            entry = encoding.setdefault(name, {})
+            entry["chunksizes"] = chunks
+            if compression:
+                entry.update({"zlib": True, "complevel": compression, "shuffle": True})
+    dataset = dataset.copy()
+    dataset.attrs[COMPLETE] = 0
+    dataset.to_netcdf(path, engine="netcdf4", encoding=encoding, unlimited_dims=["time"])
+    _flush_to_disk(str(path))
+
+
+def append_streamed(path: Path, first: int, columns: Mapping) -> None:
+    """Write ``columns`` ({variable: values over time, time last}) at samples ``first ..``
+    of the streamed file ``path``; the file is open only while it writes (a kill between
+    two appends leaves a file HDF5 reads)."""
+    import netCDF4
+
+    with netCDF4.Dataset(path, "a") as handle:
+        for name, values in columns.items():
+            count = values.shape[-1]
+            handle[name][..., first : first + count] = values
+
+
+def finish_streamed(
+    path: Path, target: Path, tail: xr.Dataset | None, attrs: Mapping, encoding: dict
+) -> Path:
+    """Add ``tail`` (what only the end of a run gives) and ``attrs`` to the streamed file
+    ``path``, mark it ``complete = 1``, flush it and rename it to ``target``."""
+    import netCDF4
+
+    if tail is not None and tail.variables:
+        tail.to_netcdf(path, mode="a", engine="netcdf4", encoding=encoding)
+    with netCDF4.Dataset(path, "a") as handle:
+        for key, value in attrs.items():
+            handle.setncattr(key, value)
+        handle.setncattr(COMPLETE, 1)
+    os.chmod(path, 0o666 & ~_umask())
+    _flush_to_disk(str(path))
+    os.replace(path, target)
+    return target

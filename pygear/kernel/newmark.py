@@ -25,6 +25,7 @@ import time
 import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -61,6 +62,7 @@ __all__ = [
     "MeshTerms",
     "PhysicalInstabilityError",
     "RunResult",
+    "SampleSink",
     "TransientError",
     "TransientInterrupted",
     "growth_diagnostic",
@@ -202,6 +204,34 @@ class RunResult:
     steps: int
     counters: dict
     solver_wall_s: float
+
+
+class SampleSink(Protocol):
+    """Where a streamed run's samples go (:meth:`BandedNewmark.run` with ``sink``).
+
+    ``block_samples`` caps the samples of one kernel call; ``write(first, samples)``
+    receives samples ``first ..`` of the run as (probe, sample) (a view: copy what is
+    kept); ``flush()`` makes everything received durable; ``state()`` is what the sink
+    carries between chunks (filter states, running statistics, rainflow residues) as
+    arrays for a checkpoint, and ``restore(state, written)`` takes it back on resuming
+    at sample ``written``.
+    """
+
+    block_samples: int
+
+    def write(self, first: int, samples: np.ndarray) -> None: ...
+
+    def flush(self) -> None: ...
+
+    def state(self) -> dict: ...
+
+    def restore(self, state: dict, written: int) -> None: ...
+
+
+def _last_samples(tail: np.ndarray | None, fresh: np.ndarray, limit: int) -> np.ndarray:
+    """The last ``limit`` samples of ``tail`` followed by ``fresh``."""
+    joined = fresh.copy() if tail is None else np.concatenate([tail, fresh], axis=1)
+    return joined[:, -limit:]
 
 
 class BandedNewmark:
@@ -532,6 +562,7 @@ class BandedNewmark:
         checkpoint_every: float = 60.0,
         resume: str | os.PathLike | None = None,
         identity: str = "",
+        sink: SampleSink | None = None,
     ) -> RunResult:
         """Integrate ``n_steps`` steps and record ``probes`` every ``decimation`` steps.
 
@@ -564,6 +595,12 @@ class BandedNewmark:
             What else shapes the state and the outputs and the matrices do not show
             (the case, the scene, the code version); a checkpoint of another identity
             is refused.
+        sink : SampleSink, optional
+            Hand the samples to ``sink`` chunk by chunk instead of keeping them: the run
+            then holds at most ``sink.block_samples`` samples per probe (memory O(chunk),
+            whatever its length), its result has no samples, and a checkpoint holds the
+            sink's own state (:meth:`SampleSink.state`) instead of the samples, which the
+            sink has flushed (to its file) before the checkpoint is written.
 
         Raises
         ------
@@ -582,7 +619,13 @@ class BandedNewmark:
             "window_first_step": n_steps - window_steps + 1 if window_steps else 0,
         }
         n_samples = n_steps // decimation + 1
-        samples = np.zeros((max(len(probes), 1), n_samples), order="F")
+        if sink is not None:  # a chunk of s steps records at most s // decimation + 1 samples
+            block = max(int(sink.block_samples), 2)
+            max_chunk = (block - 1) * decimation
+            samples = np.zeros((max(len(probes), 1), block), order="F")
+        else:
+            max_chunk = n_steps
+            samples = np.zeros((max(len(probes), 1), n_samples), order="F")
         probe_args = (
             self._probe_arguments(probes)
             if probes
@@ -602,7 +645,10 @@ class BandedNewmark:
             probes,
             (*probe_args.values(), *(x for x in (q0, v0, a0) if x is not None)),
         )
-        if resume is not None:
+        if resume is not None and sink is not None:
+            state, written, kept = load_checkpoint(resume, key, None)
+            sink.restore(kept, written)
+        elif resume is not None:
             state, written = load_checkpoint(resume, key, samples)
         else:
             state, written = self.start(q0, v0, a0), 0
@@ -616,6 +662,9 @@ class BandedNewmark:
         ]
         step_of = ISTATE_LAYOUT.index("step")
         chunk = max(100, min(20000, n_steps // 50 or 1))
+        chunk = min(chunk, max_chunk)
+        base = written if sink is not None else 0  # the run's sample at samples[:, 0]
+        tail = None  # with a sink: the last samples, for a diverged run's diagnostic
         solver_wall = 0.0
         last_checkpoint = time.perf_counter()
         with deferred_interrupt() as interrupted:
@@ -624,24 +673,30 @@ class BandedNewmark:
                 steps = self.rebase.aligned_steps(step, int(min(chunk, n_steps - step)))
                 started = time.perf_counter()
                 written_now, bad, ierr = self._advance(
-                    state, recording, probe_args, steps, samples, written
+                    state, recording, probe_args, steps, samples, written - base
                 )
                 elapsed = time.perf_counter() - started
                 solver_wall += elapsed
+                local = written - base
                 if rigid_probes and written_now:  # give displacements their rigid rotation
                     for p, weights in rigid_probes:
                         offset = self.rebase.probe_offsets(weights, state)
                         if offset:
-                            samples[p, written : written + written_now] += offset
+                            samples[p, local : local + written_now] += offset
+                if sink is not None and written_now:
+                    fresh = samples[: len(probes), local : local + written_now]
+                    sink.write(written, fresh)
+                    tail = _last_samples(tail, fresh, max(block, 4096))
+                    base = written + written_now
                 written += written_now
                 self.rebase.apply(state, int(state["istate"][step_of]))
                 if ierr:
                     failed_step = int(state["istate"][step_of]) + 1
                     error = self._error(ierr, bad, failed_step, "running")
-                    raise self._physical_growth(
-                        error, ierr, samples[: len(probes), :written], decimation, probes
-                    )
+                    recorded = samples[: len(probes), :written] if sink is None else tail
+                    raise self._physical_growth(error, ierr, recorded, decimation, probes)
                 chunk = int(max(100, min(10 * chunk, steps * chunk_seconds / max(elapsed, 1e-6))))
+                chunk = min(chunk, max_chunk)
                 if progress is not None:
                     try:
                         progress(int(state["istate"][step_of]), n_steps)
@@ -649,13 +704,13 @@ class BandedNewmark:
                         interrupted.set()
                 now = time.perf_counter()
                 if checkpoint is not None and now - last_checkpoint >= checkpoint_every:
-                    save_checkpoint(checkpoint, key, state, samples[:, :written], written)
+                    self._checkpoint(checkpoint, key, state, samples, written, sink)
                     last_checkpoint, saved_step = now, int(state["istate"][step_of])
                 if interrupted.is_set():
                     break
             done = int(state["istate"][step_of])
             if checkpoint is not None and saved_step != done:  # mid-run, or the finished run
-                save_checkpoint(checkpoint, key, state, samples[:, :written], written)
+                self._checkpoint(checkpoint, key, state, samples, written, sink)
             # a signal in the last chunk stops a checkpointed run too: the finished state is
             # saved, and the result is written on resuming; without a checkpoint it goes on
             if interrupted.is_set() and (done < n_steps or checkpoint is not None):
@@ -675,9 +730,14 @@ class BandedNewmark:
         t_s = float(state["rstate"][0])
         unpermute = np.empty(self.n, dtype=int)
         unpermute[self.order] = np.arange(self.n)
+        if sink is not None:
+            sink.flush()
+            kept = written - base  # nothing: the sink holds every sample
         return RunResult(
-            time=np.arange(written) * decimation * self.time_step,
-            samples=samples[: len(probes), :written],
+            time=np.arange(written) * decimation * self.time_step
+            if sink is None
+            else np.zeros(kept),
+            samples=samples[: len(probes), :written] if sink is None else samples[:0, :kept],
             q=(state["q"] + self.rebase.displacement(state))[unpermute]
             if self.rebase.active
             else state["q"][unpermute],
@@ -700,6 +760,16 @@ class BandedNewmark:
             },
             solver_wall_s=solver_wall,
         )
+
+    @staticmethod
+    def _checkpoint(path, key, state, samples, written, sink) -> None:
+        """Save the state; the samples too, or, with a sink, the sink's state once it
+        has flushed every sample so far (a checkpoint never runs ahead of the file)."""
+        if sink is None:
+            save_checkpoint(path, key, state, samples[:, :written], written)
+            return
+        sink.flush()
+        save_checkpoint(path, key, state, samples[:, :0], written, extra=sink.state())
 
     def _advance(
         self, state, recording, probe_args, steps, samples, written

@@ -466,25 +466,62 @@ def checkpoint_key(
     return digest.hexdigest()[:16]
 
 
-def save_checkpoint(path, key: str, state: dict, samples: np.ndarray, written: int) -> None:
+SINK_PREFIX = "sink__"
+"""Prefix of a streamed run's sink state in a checkpoint (filters, statistics, residues)."""
+
+
+def save_checkpoint(
+    path, key: str, state: dict, samples: np.ndarray, written: int, extra: dict | None = None
+) -> None:
+    """Write the state (and the samples so far, or a streamed run's sink state as
+    ``extra``) to ``path`` atomically."""
     from ..io import atomic_path
 
     path = Path(path)
+    kept = {f"{SINK_PREFIX}{name}": value for name, value in (extra or {}).items()}
+    streamed = int(extra is not None)
     with atomic_path(path) as temporary, open(temporary, "wb") as handle:
-        np.savez(handle, key=key, written=written, samples=samples, **state)
+        np.savez(
+            handle, key=key, written=written, samples=samples, streamed=streamed, **state, **kept
+        )
 
 
-def load_checkpoint(path, key: str, samples: np.ndarray) -> tuple[dict, int]:
+def load_checkpoint(path, key: str, samples: np.ndarray | None):
+    """The state and the number of samples written; the samples go into ``samples``.
+
+    With ``samples`` None (a streamed run) returns ``(state, written, sink_state)``: the
+    samples are in the sink's file, and a checkpoint of a run that kept them in memory
+    is refused (its file would miss them)."""
     with np.load(path) as data:
         if str(data["key"]) != key:
             raise TransientError(
                 f"resume: checkpoint {path} was written by different settings or inputs"
             )
         written = int(data["written"])
-        samples[:, :written] = data["samples"]
+        streamed = "streamed" in data.files and int(data["streamed"])
+        if samples is None and not streamed and written:
+            raise TransientError(
+                f"resume: checkpoint {path} holds its samples, not a streamed file's state; "
+                "resume it without streaming"
+            )
+        if samples is not None and streamed and written:
+            raise TransientError(
+                f"resume: checkpoint {path} belongs to a streamed run (its samples are in "
+                "the partial file); resume it streamed"
+            )
+        if samples is not None:
+            samples[:, :written] = data["samples"]
+        skip = ("key", "written", "samples", "streamed")
         state = {
             name: np.asfortranarray(data[name]) if data[name].ndim > 1 else np.array(data[name])
             for name in data.files
-            if name not in ("key", "written", "samples")
+            if name not in skip and not name.startswith(SINK_PREFIX)
         }
+        sink = {
+            name.removeprefix(SINK_PREFIX): np.array(data[name])
+            for name in data.files
+            if name.startswith(SINK_PREFIX)
+        }
+    if samples is None:
+        return state, written, sink
     return state, written

@@ -5,21 +5,31 @@ from __future__ import annotations
 
 import os
 import signal
+import time
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from ..analysis.time.transient import run_transient, transient_problem
-from ..analysis.time.transient_checks import check_transient_disk
+from ..analysis.time.reductions import scene_reductions
+from ..analysis.time.run_dataset import result_attributes, summary_variables
+from ..analysis.time.transient import (
+    checkpoint_identity,
+    integrate,
+    run_transient,
+    transient_problem,
+)
+from ..analysis.time.transient_checks import check_transient_disk, check_transient_memory
 from ..assembly.matrices import Model
 from ..errors import CaseError
-from ..io import WriteInterrupted, save_figure, signals_interrupt, write_netcdf
+from ..io import WriteInterrupted, open_dataset, save_figure, signals_interrupt, write_netcdf
 from ..kernel.newmark import TransientInterrupted
 from ..model.case import Case, Scene
 from ..model.case_json import case_json
 from .outputs import analysis_references
+from .streaming import StreamedFile, partial_path, stream_wanted, usable_partial
 
 __all__ = ["write_speed_figure", "write_transient"]
 
@@ -36,6 +46,8 @@ def write_transient(
     checkpoint: str | os.PathLike | None = None,
     checkpoint_every: float = 60.0,
     resume: str | os.PathLike | None = None,
+    stream: bool | None = None,
+    problem=None,
 ) -> tuple[xr.Dataset, list[Path]]:
     """Run the scene's transient and write ``<scene>.nc`` (and ``<scene>_speeds.png``).
 
@@ -47,6 +59,15 @@ def write_transient(
     writing removes the temporary file and keeps the checkpoint, from which a resumed
     run writes the result without integrating again.
 
+    A long run streams (``stream`` None: :func:`pygear.runs.streaming.stream_wanted`):
+    its samples go into the file as the run goes (:mod:`pygear.runs.streaming`), under
+    a hidden name and marked ``complete = 0`` until the end, and the dataset returned is
+    the finished file opened lazily (:func:`pygear.io.open_dataset`).  A streamed run
+    resumed from its checkpoint continues its partial file; without a checkpoint a
+    failed streamed run removes it.  ``problem`` is the scene's
+    :func:`~pygear.analysis.time.transient.transient_problem` when the caller built it
+    already (its checks).
+
     Raises
     ------
     TransientInterrupted
@@ -57,33 +78,44 @@ def write_transient(
     path = None
     with signals_interrupt():  # a signal while writing raises, so temporaries are removed
         try:
-            problem = transient_problem(case, scene, formulation=formulation, model=model)
-            check_transient_disk(
-                problem.settings, len(problem.probes), directory, f"scenes.{scene.name}.transient"
-            )
-            dataset = run_transient(
-                case,
-                scene,
-                progress=progress,
-                problem=problem,
-                checkpoint=checkpoint,
-                checkpoint_every=checkpoint_every,
-                resume=resume,
-            )
-            stage = "writing the result"
-            dataset = dataset.merge(analysis_references(case, problem.model, dataset))
-            # the inputs that made it, kept for what is computed from it (its spectra)
-            dataset.attrs.update(input_hash=case.input_hash(), case_json=case_json(case))
-            path = write_netcdf(
-                dataset,
-                directory / f"{scene.name}.nc",
-                title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
-            )
-            written = [path]
-            if figure:
-                speeds = write_speed_figure(dataset, directory / f"{scene.name}_speeds.png")
-                written += [speeds] if speeds is not None else []
-                written += write_sensor_figures(dataset, directory, scene.name)
+            if problem is None:
+                problem = transient_problem(
+                    case, scene, formulation=formulation, model=model, check_memory=False
+                )
+            where = f"scenes.{scene.name}.transient"
+            check_transient_disk(problem.settings, len(problem.probes), directory, where)
+            if stream_wanted(problem, stream):
+                dataset, path = _write_streamed(
+                    case,
+                    problem,
+                    directory / f"{scene.name}.nc",
+                    progress=progress,
+                    checkpoint=checkpoint,
+                    checkpoint_every=checkpoint_every,
+                    resume=resume,
+                )
+                stage = "writing the result"
+            else:
+                check_transient_memory(problem.settings, len(problem.probes), where)
+                dataset = run_transient(
+                    case,
+                    scene,
+                    progress=progress,
+                    problem=problem,
+                    checkpoint=checkpoint,
+                    checkpoint_every=checkpoint_every,
+                    resume=resume,
+                )
+                stage = "writing the result"
+                dataset = dataset.merge(analysis_references(case, problem.model, dataset))
+                # the inputs that made it, kept for what is computed from it (its spectra)
+                dataset.attrs.update(input_hash=case.input_hash(), case_json=case_json(case))
+                path = write_netcdf(
+                    dataset,
+                    directory / f"{scene.name}.nc",
+                    title=f"Transient {scene.name} of {case.name} ({dataset.attrs['formulation']})",
+                )
+            written = [path, *_figures(dataset, directory, scene.name, figure)]
         except WriteInterrupted as interrupt:
             raise TransientInterrupted(
                 _interrupted_writing(interrupt, stage, path, checkpoint), interrupt.signal_number
@@ -91,6 +123,76 @@ def write_transient(
     if checkpoint is not None:
         Path(checkpoint).unlink(missing_ok=True)
     return dataset, written
+
+
+def _figures(dataset: xr.Dataset, directory: Path, scene: str, figure: bool) -> list[Path]:
+    """The speed figure and the sensor figures of a written run (none unless ``figure``)."""
+    if not figure:
+        return []
+    speeds = write_speed_figure(dataset, directory / f"{scene}_speeds.png")
+    return ([speeds] if speeds is not None else []) + write_sensor_figures(
+        dataset, directory, scene
+    )
+
+
+def _write_streamed(
+    case: Case,
+    problem,
+    target: Path,
+    *,
+    progress,
+    checkpoint,
+    checkpoint_every: float,
+    resume,
+) -> tuple[xr.Dataset, Path]:
+    """Run ``problem`` streaming its samples into ``target`` (:mod:`pygear.runs.streaming`);
+    the finished file opened lazily, and its path."""
+    started = time.perf_counter()
+    identity = checkpoint_identity(problem)
+    partial = partial_path(target)
+    if resume is not None:
+        reason = usable_partial(partial, identity, _checkpoint_samples(resume))
+        if reason:  # the samples before the checkpoint are lost: run from the start
+            warnings.warn(f"resume: {reason}; running {target.name} from the start", stacklevel=3)
+            resume = None
+    sink = StreamedFile(
+        problem,
+        target,
+        title=f"Transient {problem.scene.name} of {case.name} ({problem.model.formulation})",
+        input_hash=case.input_hash(),
+        case_json=case_json(case),
+        identity=identity,
+        consumers=scene_reductions(problem),
+    )
+    try:
+        result = integrate(
+            problem,
+            progress=progress,
+            checkpoint=checkpoint,
+            checkpoint_every=checkpoint_every,
+            resume=resume,
+            sink=sink,
+        )
+        summary_vars, summary_coords = summary_variables(problem, result)
+        tail = xr.Dataset(summary_vars, summary_coords)
+        tail = tail.merge(analysis_references(case, problem.model, tail))
+        attrs = result_attributes(problem, result)
+        attrs["wall_s"] = time.perf_counter() - started
+        path = sink.finish(tail, attrs)
+    except BaseException:
+        if checkpoint is None:  # nothing could resume it
+            sink.discard()
+        raise
+    return open_dataset(path), path
+
+
+def _checkpoint_samples(path) -> int:
+    """The samples a checkpoint says its run has written (0 when it cannot be read)."""
+    try:
+        with np.load(path) as data:
+            return int(data["written"])
+    except (OSError, KeyError, ValueError):
+        return 0
 
 
 def write_speed_figure(dataset: xr.Dataset, target: Path) -> Path | None:

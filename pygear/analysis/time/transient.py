@@ -21,7 +21,6 @@ import numpy as np
 import xarray as xr
 
 from ...assembly.dof_rows import dof_row, rigid_rotation
-from ...assembly.effects import effect_attributes
 from ...assembly.matrices import Model, assemble
 from ...assembly.mesh_backlash import line_of_action_backlash
 from ...errors import CaseError
@@ -33,13 +32,13 @@ from ...kernel.newmark import (
     TransientError,
 )
 from ...linalg import generalized_eigh
-from ...model.case import Case, Scene, defects_json
-from ...model.components import PlanetaryStage
+from ...model.case import Case, Scene
 from ...model.transient_settings import Transient
 from ...rigid_modes import rigid_body_mask
-from ..condition.sensor_signal import AUXILIARY_PREFIX, compile_scene_probes, sensor_signal
+from ..condition.sensor_signal import compile_scene_probes
 from ..signals.probes import RPM_PER_RAD_S, state_probes
-from .run_layout import grouped_variables, sensor_coordinates
+from .run_dataset import equilibrium_table
+from .run_dataset import run_dataset as _dataset
 from .transient_checks import (
     check_static_deflection,
     check_transient_memory,
@@ -52,6 +51,7 @@ __all__ = [
     "TransientProblem",
     "equilibrium_table",
     "runup_table_text",
+    "integrate",
     "transient_summary",
     "member_speeds",
     "static_mesh_deflections",
@@ -103,9 +103,17 @@ def static_mesh_deflections(
 
 
 def transient_problem(
-    case: Case, scene: Scene, *, formulation: str | None = None, model: Model | None = None
+    case: Case,
+    scene: Scene,
+    *,
+    formulation: str | None = None,
+    model: Model | None = None,
+    check_memory: bool = True,
 ) -> TransientProblem:
     """Assemble, check and set up the transient of ``scene``; nothing is integrated.
+
+    ``check_memory`` False leaves out the check that the whole record fits in memory
+    (a streamed run holds one block of it: :mod:`pygear.runs.streaming`).
 
     Raises
     ------
@@ -203,7 +211,8 @@ def transient_problem(
     probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
-    check_transient_memory(settings, len(probes), path)
+    if check_memory:
+        check_transient_memory(settings, len(probes), path)
     solver = BandedNewmark(
         model.mass,
         model.damping,
@@ -249,28 +258,6 @@ def transient_problem(
     return problem
 
 
-def equilibrium_table(model: Model, mean_velocity: np.ndarray) -> dict:
-    """Member speeds [rpm] and planet tangential speeds [m/s] from mean DOF velocities.
-
-    Keys are the bodies' names (``planetary.carrier``, ``stage1.sun``), as a run file's
-    ``body`` and ``member`` coordinates give them.  A planet's speed is its theta_z DOF:
-    the spin relative to the carrier (improved, consistent) or in the carrier frame
-    (lin-parker).
-    """
-    speeds, tangential = {}, {}
-    for node in model.nodes:
-        if node.role == "housing":
-            continue
-        key = node.name
-        row = dof_row(model, f"{node.name}.theta_z")
-        if row is not None:
-            speeds[key] = float(row @ mean_velocity * RPM_PER_RAD_S)
-        eta = dof_row(model, f"{node.name}.eta")
-        if node.role == "planet" and eta is not None:
-            tangential[key] = float(eta @ mean_velocity)
-    return {"speed_rpm": speeds, "tangential_speed": tangential}
-
-
 def run_transient(
     case: Case,
     scene: Scene,
@@ -295,10 +282,34 @@ def run_transient(
     """
     started = time.perf_counter()
     problem = problem or transient_problem(case, scene, formulation=formulation)
+    result = integrate(
+        problem,
+        progress=progress,
+        checkpoint=checkpoint,
+        checkpoint_every=checkpoint_every,
+        resume=resume,
+    )
+    dataset = _dataset(problem, result)
+    dataset.attrs["wall_s"] = time.perf_counter() - started
+    return dataset
+
+
+def integrate(
+    problem: TransientProblem,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 60.0,
+    resume: str | os.PathLike | None = None,
+    sink=None,
+) -> RunResult:
+    """Run ``problem``'s integrator over the scene's steps (samples kept, or handed to
+    ``sink``: :class:`pygear.kernel.newmark.SampleSink`); a divergence under a soft mesh
+    says so (:func:`with_soft_mesh_cause`)."""
     settings = problem.settings
     keyed = checkpoint is not None or resume is not None
     try:
-        result = problem.solver.run(
+        return problem.solver.run(
             settings.steps,
             problem.probes,
             v0=problem.initial_velocity,
@@ -310,15 +321,13 @@ def run_transient(
             checkpoint_every=checkpoint_every,
             resume=resume,
             identity=checkpoint_identity(problem) if keyed else "",
+            sink=sink,
         )
     except TransientError as error:
         static = problem.static_deflection
         if static is None:
             raise
         raise with_soft_mesh_cause(error, problem.model, static, settings) from None
-    dataset = _dataset(problem, result)
-    dataset.attrs["wall_s"] = time.perf_counter() - started
-    return dataset
 
 
 def initial_velocity(problem: TransientProblem) -> np.ndarray | None:
@@ -384,114 +393,6 @@ def checkpoint_identity(problem: TransientProblem) -> str:
             io.source_identity(),
         )
     )
-
-
-def _dataset(problem: TransientProblem, result: RunResult) -> xr.Dataset:
-    """The run as docs/data_model.md lays it out: channels grouped by kind over labels."""
-    model, settings, solver = problem.model, problem.settings, problem.solver
-    series = []
-    auxiliary = {}
-    for probe, values in zip(problem.probes, result.samples):
-        if problem.sensors and probe.name.startswith(AUXILIARY_PREFIX):
-            auxiliary[probe.name] = values
-            continue
-        if probe.kind == "drive_torque":  # as the case gives it (kernel: mirrored)
-            values = problem.drive_sign * values
-        series.append((probe.name, values, probe.attrs))
-    sensors = []
-    if problem.sensors:
-        rate = 1.0 / (settings.decimation * settings.time_step)
-        for plan in problem.sensors:
-            values, attrs = sensor_signal(plan, auxiliary, rate)
-            if plan.named:
-                series.append((plan.variable, values, {**attrs, "named": True}))
-            else:
-                series.append((plan.variable, values, {**attrs, "label": plan.sensor.name}))
-                sensors.append((plan.sensor.name, attrs))
-    data_vars, coords = grouped_variables(series)
-    coords.update(sensor_coordinates(sensors))
-    table = equilibrium_table(model, result.mean_velocity)
-    bodies = list(table["speed_rpm"])
-    planets = list(table["tangential_speed"])
-    data_vars["equilibrium_speed"] = (
-        ("body",),
-        np.array([table["speed_rpm"][m] for m in bodies]),
-        {
-            "units": "rpm",
-            "long_name": f"mean theta_z speed over the last {settings.mean_window:g} s",
-        },
-    )
-    data_vars["planet_tangential_speed"] = (
-        ("planet",),
-        np.array([table["tangential_speed"][p] for p in planets]),
-        {
-            "units": "m/s",
-            "long_name": f"mean eta velocity over the last {settings.mean_window:g} s",
-        },
-    )
-    data_vars["t_s"] = (
-        (),
-        result.t_s,
-        {"units": "s", "long_name": "first instant the input speed reaches omega_0"},
-    )
-    coords.update(
-        {
-            "time": ("time", result.time, {"units": "s", "long_name": "time since the start"}),
-            "body": ("body", np.array(bodies, dtype=object), {"long_name": "rotating body"}),
-            "planet": ("planet", np.array(planets, dtype=object), {"long_name": "planet"}),
-        }
-    )
-    c = solver.coefficients
-    attrs = {
-        "case": problem.case.name,
-        "scene": problem.scene.name,
-        "formulation": model.formulation,
-        "dof_set": model.dof_set,
-        "whole_drivetrain": int(model.attributes.get("drivetrain", 0)),
-        "start_loaded": int(settings.start_loaded),
-        "effects": ", ".join(problem.effects) or "none (constant mesh stiffness)",
-        "integrator": settings.integrator,
-        "spectral_radius": c["rho_inf"],
-        "newmark_beta": c["beta"],
-        "newmark_gamma": c["gamma"],
-        "alpha_m": c["alpha_m"],
-        "alpha_f": c["alpha_f"],
-        "equivalent_load": solver.equivalent_load,
-        "tolerance": settings.tolerance,
-        "time_step": settings.time_step,
-        "duration": result.steps * settings.time_step,
-        "sample_rate": 1.0 / (settings.decimation * settings.time_step),
-        "steps": result.steps,
-        "bandwidth": solver.bandwidth,
-        "linear_solver": solver.linear_solver,  # pygear.kernel.newmark_support
-        "linear_solver_reason": solver.linear_solver_reason,
-        "input": problem.input_label,
-        "output": problem.output_label,
-        "drive": settings.drive.describe() if settings.drive else "none",
-        "load": settings.load.describe() if settings.load else "none",
-        "speed_ratio": problem.ratio,
-        "speed_reference_rpm": settings.speed_reference_rpm or 0.0,
-        "rayleigh_alpha": problem.case.damping.mass_coefficient,
-        "rayleigh_beta": problem.case.damping.stiffness_coefficient,
-        "contact_sign": " ".join(str(int(s)) for s in problem.contact_sign),
-        "mean_window": settings.mean_window,
-        "solver_wall_s": result.solver_wall_s,
-        **{f"solver_{k}": v for k, v in result.counters.items()},
-        **effect_attributes(model, solver.equivalent_load),  # pygear.assembly.effects
-    }
-    attrs["tooth_defects"] = defects_json(problem.case, problem.scene)
-    ring, carrier = _first_ring_teeth(problem.case)
-    if ring and carrier in table["speed_rpm"] and len(problem.case.gearbox.stages) == 1:
-        attrs["mesh_frequency_hz"] = ring * table["speed_rpm"][carrier] / 60.0
-    return xr.Dataset(data_vars, coords, attrs)
-
-
-def _first_ring_teeth(case: Case) -> tuple[int | None, str]:
-    """The ring's tooth count and the carrier's body name of the first planetary stage."""
-    for stage in case.gearbox.stages:
-        if isinstance(stage, PlanetaryStage):
-            return stage.ring.teeth, f"{stage.name}.carrier"
-    return None, ""
 
 
 def member_speeds(dataset: xr.Dataset) -> dict[str, float]:
