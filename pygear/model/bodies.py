@@ -218,13 +218,16 @@ and 2.6).  The fillet foundation is the largest compliance of a tooth pair
 (docs/potential_energy.md), so a case that knows its bores should type them."""
 
 FOUNDATION_RATIO_RANGE = (1.4, 7.0)
-"""The range of h_fi = r_f / r_int over which Sainsot, Velex & Duverger (2004) fitted
-their fillet-foundation polynomials (L*, M*, P*, Q*) to finite-element results.  The
-fit is quadratic in h_fi: beyond the range it does not level off as a gear body does
-but grows as h_fi^2 (P* from 12.5 at h_fi = 7 to 310 at 40), so a bore of a few
+"""The range of h_fi = r_f / r_int taken as valid for the fillet-foundation polynomials
+(L*, M*, P*, Q*) that Sainsot, Velex & Duverger (2004) fitted to finite-element results.
+The fit is quadratic in h_fi: beyond the upper edge it does not level off as a gear body
+does but grows as h_fi^2 (P* from 12.5 at h_fi = 7 to 310 at 40), so a bore of a few
 millimetres under a 40 mm root makes the tooth pair 10^2 .. 10^5 times too soft; Q*
-passes its minimum near h_fi = 8 already.  A bore outside the range is taken at the
-range's edge (:func:`foundation_bore_radius`), with a warning naming the parameter."""
+passes its minimum near h_fi = 8 already.  The coefficient ranges that ROSS (petrobras/
+ross, ``GearElementTVMS``) checks for the same fit put the upper edge at 6.8 .. 7.3
+over theta_f = 0.03 .. 0.15 rad; the lower edge is the thin-rim end, where the fit stays
+bounded.  A bore outside the range is taken at the range's edge
+(:func:`foundation_bore_radius`), with a warning naming the parameter."""
 
 
 def foundation_bore_radius(root_radius: float, bore_radius: float) -> tuple[float, str | None]:
