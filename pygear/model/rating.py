@@ -347,7 +347,11 @@ class Rating:
         Design life [h] (number of load cycles of the static rating).
     load_sharing : dict of str to float
         K_gamma per planetary stage; a stage left out takes the default for its planet
-        count (see :mod:`pygear.analysis.rating`).
+        count (see :mod:`pygear.analysis.rating`), unless it has position errors.
+    planet_position_errors : dict of str to tuple of float
+        Per planetary stage, each planet's position error along the line of action [m]
+        (> 0: ahead in the loaded sense); K_gamma then comes from the static model at the
+        rated torque (:mod:`pygear.analysis.rating.load_sharing`).
     dynamic_factor, face_load_factor, transverse_load_factor : dict of str to float
         K_v, K_Hbeta and K_Halpha (= K_Falpha) per mesh, named "<stage>.sun",
         "<stage>.ring" or "<stage>.mesh"; a mesh left out gets the standard's method.
@@ -369,6 +373,7 @@ class Rating:
     required_sf: float = 1.0
     service_life_h: float = 20000.0
     load_sharing: dict[str, float] = field(default_factory=dict)
+    planet_position_errors: dict[str, tuple[float, ...]] = field(default_factory=dict)
     dynamic_factor: dict[str, float] = field(default_factory=dict)
     face_load_factor: dict[str, float] = field(default_factory=dict)
     transverse_load_factor: dict[str, float] = field(default_factory=dict)
@@ -399,6 +404,19 @@ class Rating:
                       "transverse_load_factor"):
             for key, value in getattr(self, table).items():
                 _factor(f"rating.{table}[{key!r}]", value)
+        for stage, errors in self.planet_position_errors.items():
+            if stage in self.load_sharing:
+                raise CaseError(
+                    f"rating: give load_sharing or planet_position_errors for {stage!r}, "
+                    "not both (the errors make the model compute K_gamma)"
+                )
+            for k, value in enumerate(errors):
+                if not (isinstance(value, (int, float)) and math.isfinite(value)
+                        and abs(value) < 1e-3):
+                    raise CaseError(
+                        f"rating.planet_position_errors[{stage!r}][{k}] must be a finite "
+                        f"error in m below 1 mm (got {value!r}; 50 um is 50e-6)"
+                    )
         if not (isinstance(self.accuracy_grade, int) and 1 <= self.accuracy_grade <= 12):
             raise CaseError(
                 f"rating.accuracy_grade must be an ISO 1328-1 grade 1..12 "

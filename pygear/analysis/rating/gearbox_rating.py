@@ -135,9 +135,10 @@ def _gear_stages(case) -> list:
 
 
 def pair_loads(case, rating: Rating, torque: float, speed: float, application_factor: float,
-               dynamic_factors: Mapping[str, float] | None = None) -> list[tuple]:
+               dynamic_factors: Mapping[str, float] | None = None,
+               model_sharing: Mapping[str, float] | None = None) -> list[tuple]:
     """(mesh name, gear names, stage, PairLoad) of every mesh at input ``torque`` [N m]
-    and ``speed`` [rpm]."""
+    and ``speed`` [rpm]; ``model_sharing`` holds K_gamma the model computed per stage."""
     dynamic_factors = dict(dynamic_factors or {})
     for key, value in dynamic_factors.items():
         if not (math.isfinite(value) and value >= 1.0):
@@ -148,6 +149,11 @@ def pair_loads(case, rating: Rating, torque: float, speed: float, application_fa
     for stage in _gear_stages(case):
         planets = getattr(stage, "planets", 1)
         k_g = _given(rating.load_sharing, stage.name, "load_sharing")
+        if k_g is None and model_sharing and stage.name in model_sharing:
+            k_g = FactorValue(
+                model_sharing[stage.name],
+                "static model with rating.planet_position_errors at the rated torque "
+                "(ISO 6336-1:2019 cl. 5: max / mean planet force)", "computed")
         if k_g is None:
             k_g = FactorValue(
                 iso.planet_load_sharing_default(planets),
@@ -223,8 +229,14 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
         Overrides ``rating.duty_cycle``.
     """
     duty = duty_cycle if duty_cycle is not None else rating.duty_cycle
+    sharing = None
+    if rating.planet_position_errors:
+        from .load_sharing import load_sharing_from_model
+
+        sharing = load_sharing_from_model(case, rating.planet_position_errors,
+                                          rating.rated_torque)
     loads = pair_loads(case, rating, rating.rated_torque, rating.rated_speed_rpm,
-                       rating.application_factor, dynamic_factors)
+                       rating.application_factor, dynamic_factors, sharing)
     meshes = [MeshEntry(name, gears, stage, load, rate_pair(load))
               for name, gears, stage, load in loads]
     result = GearboxRating(meshes)
@@ -243,7 +255,7 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
             if hours <= 0.0:
                 continue
             # ISO 6336-6: the spectrum replaces K_A, the other factors at each bin's load
-            binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors)
+            binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors, sharing)
             for name, gears, _, load in binned:
                 rated = rate_pair(replace(load, service_life_h=hours))
                 for side in (0, 1):
