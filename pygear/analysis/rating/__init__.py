@@ -8,6 +8,8 @@
   duty-cycle damage and the bearings' lives; K_v per mesh can come from outside
   (``rate_gearbox(..., dynamic_factors=...)``), K_gamma from planet forces
   (:func:`~.gearbox_rating.load_sharing_from_forces`);
+- :mod:`.load_sharing`: K_gamma from the case's static model with planet position
+  errors (``Rating(planet_position_errors=...)``);
 - :mod:`.duty`: rainflow counting (ASTM E1049-85), S-N curves, Palmgren-Miner;
 - :mod:`.bearing_life`: L10, P, P_m, a_ISO;
 - :mod:`.dataset`: the result as an ``xarray.Dataset``.
