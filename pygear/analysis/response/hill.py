@@ -65,9 +65,12 @@ PRECONDITIONED_BAND = 8
 """Harmonics |j| <= this are inverted exactly in the GMRES preconditioner."""
 
 GMRES_TOLERANCE = 1e-12
-GMRES_RESTART = 200
-GMRES_CYCLES = 5
-"""GMRES: relative residual of (2), Krylov vectors between restarts, restarts."""
+GMRES_RESTART = 80
+GMRES_CYCLES = 1
+"""GMRES: relative residual of (2), Krylov vectors, restarts.  Above the mesh modes a
+few to thirty iterations converge; where the harmonics ring the mesh modes (low speed)
+GMRES would need more than a hundred, and its Arnoldi loop then costs more than the LU,
+so it hands over after these."""
 
 
 @dataclass
