@@ -34,7 +34,8 @@ def test_json_of_the_nrel_gearbox(capsys):
     assert 500.0 < doc["gears"]["stage1.sun"]["sigma_H"] < 2000.0
     assert {"K_v", "K_Hbeta", "K_gamma", "sigma_H0"} <= set(sun)
     assert "K_Hbeta" in sun["given"] and "K_v" not in sun["given"]
-    assert set(doc["bearings"]) == {"PL-A", "PL-B", "IMS-PL-A", "IMS-PL-B"}
+    assert set(doc["bearings"]) == {"PL-A", "PL-B", "IMS-PL-A", "IMS-PL-B", "HS-A", "HS-B",
+                                    "HS-C"}
     assert doc["limiting"].startswith("stage1.ring ")
 
 

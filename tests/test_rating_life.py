@@ -187,3 +187,31 @@ def test_dynamic_factor_from_outside_enters_as_given():
     ratio = mesh.rating.gears[0]["sigma_H"].value / before.gears[0]["sigma_H"].value
     held = (mesh.rating.mesh["K_Halpha"].value / before.mesh["K_Halpha"].value)
     assert ratio == pytest.approx(math.sqrt(1.44 / 1.1 * held), rel=1e-12)
+
+
+def test_nrel_tapered_bearing_equivalent_load_by_hand():
+    # HS-B takes a quarter of the pinion's radial resultant and its whole axial force
+    # (the case's ASSUMED split); F_a/F_r > e = 0.40, so P = 0.4 F_r + 1.49 F_a.  The
+    # pinion's forces by hand: T_pinion = T / i, F_t = 2 T_pinion / d, F_r = F_t tan
+    # alpha_wt (inv alpha_wt = 2 tan alpha_n (x1 + x2)/(z1 + z2) + inv alpha_t), F_a =
+    # F_t tan beta
+    from pygear.analysis.rating.gearbox_rating import rate_gearbox
+    from pygear.model.rating import load_rating
+
+    case, rating = load_rating("nrel5mw_gearbox")
+    result = rate_gearbox(case, rating)
+    ratio = (1 + 56 / 19) * (1 + 93 / 18) * (95 / 24)
+    beta = math.radians(10.0)
+    alpha_t = math.atan(math.tan(math.radians(20.0)) / math.cos(beta))
+    target = 2 * math.tan(math.radians(20.0)) * (0.480 + 0.669) / (24 + 95) + (
+        math.tan(alpha_t) - alpha_t)
+    alpha_wt = 0.5
+    for _ in range(60):
+        alpha_wt -= (math.tan(alpha_wt) - alpha_wt - target) / math.tan(alpha_wt) ** 2
+    f_t = 2 * rating.rated_torque / ratio / (24 * 0.014 / math.cos(beta))
+    radial = 0.25 * math.hypot(f_t, f_t * math.tan(alpha_wt))
+    axial = f_t * math.tan(beta)
+    assert axial / radial > 0.40
+    p_hand = 0.4 * radial + 1.49 * axial
+    assert result.bearings["HS-B"]["P"] == pytest.approx(p_hand, rel=1e-9)
+    assert result.bearings["HS-B"]["speed"] == pytest.approx(12.1 * ratio, rel=1e-9)

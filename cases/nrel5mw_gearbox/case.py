@@ -62,6 +62,7 @@ from pygear.model import (
     MeshGeometry,
     base_radius,
     normal_backlash,
+    working_pressure_angle,
 )
 from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
 
@@ -771,6 +772,52 @@ def planet_bearing(name: str, stage: str, c: float, c0: float, pitch_diameter: f
     )
 
 
+# High-speed shaft bearings HS-A (CRB, 360 x 200 x 98 mm) and HS-B, HS-C (TRB, 460 x 300 x
+# 100 mm; the table's 200 mm bore read as 300 [Repro]) [P-VI,IX].  Their loads come from
+# the helical pair's forces on the pinion at the rated torque: F_t = 2 T_pinion / d,
+# F_r = F_t tan(alpha_wt), F_a = F_t tan(beta).  ASSUMED: the pinion midway between
+# HS-A and the HS-B/HS-C pair (HS-A half the radial resultant, HS-B and HS-C a quarter
+# each) and HS-B carrying the whole axial force; the tables give no bearing positions.
+# C, C0: ASSUMED estimates by ISO 281's rating formulas for the tabulated envelopes
+# (roller size and count from the section height), as for the planet bearings; a TRB's
+# e = 1.5 tan(15 deg) = 0.40, X = 0.4, Y = 0.4 cot(15 deg) = 1.49 (ISO 281 cl. 6, ASSUMED
+# 15 deg contact angle).
+PINION_TORQUE = RATED_ROTOR_TORQUE / (
+    (1 + STAGE1_TEETH["ring"] / STAGE1_TEETH["sun"])
+    * (1 + STAGE2_TEETH["ring"] / STAGE2_TEETH["sun"])
+    * (STAGE3_TEETH["wheel"] / STAGE3_TEETH["pinion"])
+)
+PINION_SPEED_FACTOR = RATED_ROTOR_TORQUE / PINION_TORQUE  # pinion speed / rotor speed
+_PAIR = mesh_geometry("parallel", "wheel", "pinion")
+HS_TANGENTIAL = 2.0 * PINION_TORQUE / (
+    STAGE3_TEETH["pinion"] * STAGE3_MODULE / math.cos(math.radians(STAGE3_HELIX_ANGLE_DEG))
+)
+HS_RADIAL = HS_TANGENTIAL * math.tan(working_pressure_angle(_PAIR))
+HS_AXIAL = HS_TANGENTIAL * math.tan(math.radians(STAGE3_HELIX_ANGLE_DEG))
+HS_RESULTANT = math.hypot(HS_TANGENTIAL, HS_RADIAL)
+
+
+def shaft_bearing(name: str, c: float, c0: float, share: float, axial: float,
+                  pitch_diameter: float, **factors: float):
+    """A high-speed shaft bearing with its ASSUMED share of the pinion's forces."""
+    return RollingBearingData(
+        name=name,
+        kind="roller",
+        C=c,
+        C0=c0,
+        location="parallel.output_gear",
+        radial_load=share * HS_RESULTANT,
+        axial_load=axial,
+        speed_factor=PINION_SPEED_FACTOR,
+        pitch_diameter=pitch_diameter,
+        contamination=0.5,  # ASSUMED, as the planet bearings
+        viscosity=68.0,  # ASSUMED, as the planet bearings
+        **factors,
+    )
+
+
+TAPERED = {"e": 0.40, "X": 0.4, "Y": 1.49}  # ASSUMED 15 deg contact angle, see above
+
 rating = Rating(
     materials=RATING_MATERIALS,
     rated_torque=RATED_ROTOR_TORQUE,  # 5 MW at 12.1 rpm [Jonkman]
@@ -790,5 +837,11 @@ rating = Rating(
         # IMS-PL-A, IMS-PL-B: 520 x 380 x 140 mm CRB [P-VI,IX]; ASSUMED C, C0
         planet_bearing("IMS-PL-A", "stage2", c=2.6e6, c0=6.3e6, pitch_diameter=0.450),
         planet_bearing("IMS-PL-B", "stage2", c=2.6e6, c0=6.3e6, pitch_diameter=0.450),
+        shaft_bearing("HS-A", c=1.37e6, c0=2.16e6, share=0.5, axial=0.0,
+                      pitch_diameter=0.280),
+        shaft_bearing("HS-B", c=1.46e6, c0=2.8e6, share=0.25, axial=HS_AXIAL,
+                      pitch_diameter=0.380, **TAPERED),
+        shaft_bearing("HS-C", c=1.46e6, c0=2.8e6, share=0.25, axial=0.0,
+                      pitch_diameter=0.380, **TAPERED),
     ),
 )
