@@ -595,3 +595,24 @@ def test_probe_error_names_the_line_of_the_case_file_that_wrote_it(tmp_path, cap
     assert "probes[1].name" in err
     assert err.endswith("(written at probe_line/case.py:8)")
     assert len(err.splitlines()) == 1
+
+
+def test_probe_target_error_names_its_own_index_and_a_true_plural(study_case):
+    # a scene's probes are compiled one at a time (sensors in between), so the message
+    # once named every bad probe probes[0]; and listed "meshs" and "bodys"
+    from pygear.analysis.time.transient import transient_problem
+
+    runup = study_case.scene("runup")
+    good = runup.transient.probes[:2]
+    for bad, plural in (
+        (Probe("mesh_force", "planetary.moon-planet1"), "(meshes: "),
+        (Probe("speed", "planetary.moon"), "(bodies: "),
+    ):
+        settings = dataclasses.replace(runup.transient, probes=(*good, bad))
+        scene = dataclasses.replace(runup, transient=settings)
+        with pytest.raises(CaseError) as error:
+            transient_problem(study_case, scene)
+        message = str(error.value)
+        assert f"transient.probes[{len(good)}].target" in message
+        assert plural in message
+        assert "meshs" not in message and "bodys" not in message

@@ -207,7 +207,7 @@ def compile_scene_probes(
             sensors.append(plan)
             compiled += channels
         else:
-            compiled += compile_probes(model, (probe,), path)
+            compiled += compile_probes(model, (probe,), path, first_index=k)
     return compiled, tuple(sensors)
 
 

@@ -19,7 +19,7 @@ from ...assembly.dof_rows import dof_row
 from ...assembly.matrices import Model
 from ...errors import CaseError
 from ...kernel.newmark import KernelProbe
-from ...model.transient_settings import Probe
+from ...model.transient_settings import Probe, where_written
 
 __all__ = ["ROTATIONS", "compile_probes", "dof_row", "mesh_index", "state_probes"]
 
@@ -48,7 +48,9 @@ def _units(dof: str, order: int) -> str:
     return [base, f"{base}/s", f"{base}/s^2"][order]
 
 
-def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[KernelProbe]:
+def compile_probes(
+    model: Model, probes: Sequence[Probe], path: str, first_index: int = 0
+) -> list[KernelProbe]:
     """Kernel channels of a scene's probes.
 
     Parameters
@@ -59,6 +61,9 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
         The scene's probes.
     path : str
         Parameter path of the probe list, for messages.
+    first_index : int, optional
+        Index of ``probes[0]`` in the scene's list (for messages, when a caller
+        compiles the list one probe at a time).
 
     Raises
     ------
@@ -66,28 +71,44 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
         A target that is not a DOF, body, mesh or bearing spring of this model.
     """
     compiled = []
-    for k, probe in enumerate(probes):
+    for k, probe in enumerate(probes, start=first_index):
         where = f"{path}[{k}].target"
         quantity, target = probe.quantity, probe.target
         # label: the target as the run file's coordinate names it; named: the probe keeps
         # a variable of its own (pygear.analysis.time.run_layout)
         attrs = {"quantity": quantity, "target": target, "label": target, "named": bool(probe.name)}
         if quantity in ("displacement", "velocity", "acceleration"):
-            row = _require(dof_row(model, target), where, target, "DOF", model.full_labels)
+            row = _require(
+                dof_row(model, target),
+                where + where_written(probe),
+                target,
+                "DOF",
+                model.full_labels,
+            )
             dof = target.rsplit(".", 1)[-1]
             order = ("displacement", "velocity", "acceleration").index(quantity)
             attrs.update(units=_units(dof, order), long_name=f"{quantity} of {target}")
             compiled.append(KernelProbe(probe.variable, quantity, row, attrs=attrs))
         elif quantity == "speed":
             row = _require(
-                dof_row(model, f"{target}.theta_z"), where, target, "body", _bodies(model)
+                dof_row(model, f"{target}.theta_z"),
+                where + where_written(probe),
+                target,
+                "body",
+                _bodies(model),
             )
             attrs.update(units="rpm", long_name=f"rotation speed of {target} (theta_z)")
             compiled.append(
                 KernelProbe(probe.variable, "velocity", row * RPM_PER_RAD_S, attrs=attrs)
             )
         elif quantity.startswith("mesh_"):
-            m = _require(mesh_index(model, target), where, target, "mesh", _meshes(model))
+            m = _require(
+                mesh_index(model, target),
+                where + where_written(probe),
+                target,
+                "mesh",
+                _meshes(model),
+            )
             attrs["label"] = f"{model.meshes[m].stage}.{model.meshes[m].name}"
             if quantity == "mesh_deflection":
                 attrs.update(units="m", long_name=f"deflection b.q of mesh {target}")
@@ -103,7 +124,7 @@ def compile_probes(model: Model, probes: Sequence[Probe], path: str) -> list[Ker
                 attrs.update(units="N/m", long_name=f"mesh stiffness in force of {target}")
                 compiled.append(KernelProbe(probe.variable, "mesh_stiffness", mesh=m, attrs=attrs))
         elif quantity == "bearing_force":
-            row, rotational = _bearing_row(model, target, where)
+            row, rotational = _bearing_row(model, target, where + where_written(probe))
             attrs.update(
                 units="N m" if rotational else "N", long_name=f"bearing force k delta of {target}"
             )
@@ -135,10 +156,15 @@ def state_probes(model: Model) -> list[KernelProbe]:
     return probes
 
 
+_PLURALS = {"DOF": "DOFs", "body": "bodies", "mesh": "meshes", "bearing spring": "bearing springs"}
+"""What a probe can target, in the plural its message lists them under."""
+
+
 def _require(value, where: str, target: str, what: str, known: Sequence[str]):
     if value is None:
         shown = ", ".join(list(known)[:12]) + (", ..." if len(known) > 12 else "")
-        raise CaseError(f"{where}: {target!r} is not a {what} of this model ({what}s: {shown})")
+        plural = _PLURALS.get(what, f"{what}s")
+        raise CaseError(f"{where}: {target!r} is not a {what} of this model ({plural}: {shown})")
     return value
 
 
