@@ -154,6 +154,8 @@ def pair_loads(case, rating: Rating, torque: float, speed: float, application_fa
                 model_sharing[stage.name],
                 "static model with rating.planet_position_errors at the rated torque "
                 "(ISO 6336-1:2019 cl. 5: max / mean planet force)", "computed")
+        if k_g is None and not hasattr(stage, "planets"):
+            k_g = FactorValue(1.0, "one load path (a parallel stage)", "default")
         if k_g is None:
             k_g = FactorValue(
                 iso.planet_load_sharing_default(planets),
