@@ -9,7 +9,10 @@ its input gear to its output gear.  Losses are neglected.
 :func:`rate_gearbox` returns a :class:`GearboxRating` (the mesh ratings and bearing
 lives in plain Python); :mod:`.dataset` turns it into an ``xarray.Dataset``.  Factors
 known from elsewhere enter as given: the rating's own tables, and ``dynamic_factors``
-per mesh from outside (the dynamic factor of ``pygear response``, say).
+per mesh from outside (the dynamic factor of ``pygear response``, say).  A K_gamma the
+model computes from planet position errors is solved at the rated torque and kept for
+every duty-cycle bin (the errors' extra load is fixed, so a light bin's true K_gamma is
+higher: the damage of light bins is then underestimated, which they rarely decide).
 """
 
 from __future__ import annotations
