@@ -13,7 +13,8 @@ Stability Analysis*, §4.4-4.6):
   predicted point normal to the tangent);
 - step control: h grows by 1.5 after a corrector that took at most
   :data:`EASY_ITERATIONS` iterations and halves on a failure or a turn of the tangent
-  wider than :data:`MAX_TURN`;
+  wider than :data:`MAX_TURN`, unless the turn stays as wide at half the step (a
+  corner, :data:`CORNER`);
 - turning points: where the tangent's p component changes sign; located on the cubic
   Hermite interpolant of p(s) between the two points, whose slope vanishes there (the
   error of that location is O(h^4) on a smooth branch).
@@ -62,6 +63,10 @@ EASY_ITERATIONS = 3
 
 MAX_TURN = math.radians(20.0)
 """Largest angle between consecutive tangents before the step is retried smaller."""
+
+CORNER = 0.7
+"""A step turning by more than this share of the turn at twice its length passes a
+corner of the branch: it is taken, not shortened further."""
 
 
 def newton(
@@ -251,6 +256,7 @@ def continue_branch(
     s = 0.0
     h = step
     finished = False
+    previous_turn = math.inf  # turn of the last step rejected for turning too far
     while len(states) < max_points:
         if direction * (big[n] * p_scale - p_end) >= 0:
             finished = True
@@ -275,13 +281,18 @@ def continue_branch(
         new_t = None
         if converged:
             new_t = _tangent(jx, jp, t)
-            if math.acos(min(1.0, float(new_t @ t))) > MAX_TURN and h > step_min:
+            turn = math.acos(min(1.0, float(new_t @ t)))
+            # a smooth branch turns by ~ h * curvature: halving h halves the turn; a
+            # corner (a contact switch of the sampled law) turns as much at any h
+            if turn > MAX_TURN and h > step_min and not turn > CORNER * previous_turn:
                 converged = False
+                previous_turn = turn
         if not converged:
             h *= 0.5
             if h < step_min:
                 break
             continue
+        previous_turn = math.inf
         s += float(np.linalg.norm(guess - big))
         big, t = guess, new_t
         states.append(big[:n] * x_scale)
