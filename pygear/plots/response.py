@@ -35,6 +35,11 @@ of 100 N/mm and more; lighter loads lower it)."""
 MARKED_SHARE = 0.01
 """Resonance speeds of modes with at least this mesh energy share are marked."""
 
+MESH_MODE_SHARE = 0.5
+MARKED_HARMONICS = 8
+"""Modes with at least this mesh energy share are mesh modes; the speeds where mesh
+harmonics up to this one meet them are marked too."""
+
 
 def _shade_iso(axes, response: xr.Dataset) -> None:
     speed = response.speed.values
@@ -49,6 +54,9 @@ def _shade_iso(axes, response: xr.Dataset) -> None:
 
 
 def _mark_resonances(axes, response: xr.Dataset) -> None:
+    """Dotted: the mesh frequency meets a mode with some mesh energy; faint dash-dot: a
+    mesh harmonic 2..:data:`MARKED_HARMONICS` meets a mesh mode (the stiffness jumps
+    ring those)."""
     speed = response.speed.values
     per_hz = speed[-1] / response.fundamental_frequency.values[-1]
     orders = sorted({int(o) for o in response.mesh_order.values})
@@ -57,9 +65,13 @@ def _mark_resonances(axes, response: xr.Dataset) -> None:
         if share < MARKED_SHARE:
             continue
         for order in orders:
-            where = frequency / order * per_hz
-            if speed[0] <= where <= speed[-1]:
-                axes.axvline(where, color="0.3", lw=0.7, ls=":", alpha=0.3 + 0.7 * share)
+            for harmonic in range(1, MARKED_HARMONICS + 1):
+                if harmonic > 1 and share < MESH_MODE_SHARE:
+                    break
+                where = frequency / (order * harmonic) * per_hz
+                if speed[0] <= where <= speed[-1]:
+                    style = (":", 0.3 + 0.7 * share) if harmonic == 1 else ("-.", 0.25)
+                    axes.axvline(where, color="0.3", lw=0.7, ls=style[0], alpha=style[1])
 
 
 def _speed_axis(axes, speed: np.ndarray) -> None:
@@ -97,7 +109,8 @@ def plot_dynamic_factor(response: xr.Dataset) -> Figure:
     axes.set_ylabel("dynamic factor K_v [-]")
     axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     figure.suptitle(
-        f"Dynamic factor over speed (dotted: mesh frequency = natural frequency)\n"
+        f"Dynamic factor over speed (dotted: mesh frequency = natural frequency; "
+        f"dash-dot: a mesh harmonic = a mesh mode)\n"
         f"{result_title(response.attrs)}",
         fontsize=9,
     )
