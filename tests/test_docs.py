@@ -179,3 +179,101 @@ def test_cited_model_sections_exist():
         if number not in sections
     ]
     assert not wrong, "sections not in docs/model.md:\n" + "\n".join(wrong)
+
+
+# --- the README as a front page ----------------------------------------------------------
+
+README = ROOT / "README.md"
+COMMAND_PAGES = (README, DOCS / "cli.md", DOCS / "results.md", DOCS / "performance.md")
+"""Where users copy commands from: the README and the pages that took its commands."""
+
+FENCE = re.compile(r"^```(\w*)\n(.*?)^```", re.MULTILINE | re.DOTALL)
+LINK = re.compile(r"\]\(([^)\s#]+)(?:#([^)\s]*))?\)")
+INLINE_CODE = re.compile(r"`([^`\n]+)`")
+
+
+def _command_lines(text: str) -> list[str]:
+    """Shell lines of the ``bash`` blocks (continuations joined, comments dropped) and
+    inline code spans that start with ``make`` or ``.venv/bin/``."""
+    lines = []
+    for language, body in FENCE.findall(text):
+        if language == "bash":
+            lines += body.replace("\\\n", " ").splitlines()
+    lines += INLINE_CODE.findall(text)
+    commands = []
+    for line in lines:
+        command = re.split(r"\s+#", line)[0].strip()
+        if command.startswith(("make ", ".venv/bin/")):
+            commands.append(command)
+    return commands
+
+
+def test_readme_opens_with_the_two_commands():
+    """The first code block is ``make run`` then ``make test``, before any other."""
+    language, body = FENCE.findall(README.read_text())[0]
+    assert language == "bash"
+    assert _command_lines(f"```bash\n{body}```\n")[:2] == ["make run", "make test"]
+
+
+def test_readme_keeps_its_front_page_sections():
+    """What the front page promises: a quick start, an example, the docs, the layout of the
+    tree (drawn by hand) and the licence."""
+    text = README.read_text()
+    headings = re.findall(r"^## (.+)$", text, re.MULTILINE)
+    assert headings[0] == "Quick start"
+    assert {"Documentation", "Layout", "Licence"} <= set(headings)
+    assert "```python" in text
+    assert "](LICENSE)" in text and "BSD 3-Clause" in text
+
+
+def _anchors(page: Path) -> set[str]:
+    """The heading anchors MyST makes for a page (``myst_heading_anchors = 3``)."""
+    anchors = set()
+    for heading in re.findall(r"^#{1,3} (.+)$", page.read_text(), re.MULTILINE):
+        slug = re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+        anchors.add(slug)
+    return anchors
+
+
+def test_readme_links_resolve():
+    """Every relative link of the README names a file of the tree, and a link into a docs
+    page with ``#anchor`` names one of that page's headings."""
+    broken = []
+    for target, anchor in LINK.findall(README.read_text()):
+        if re.match(r"[a-z]+:", target):
+            continue  # a web address
+        path = ROOT / target
+        if not path.exists():
+            broken.append(target)
+        elif anchor and path.suffix == ".md" and anchor not in _anchors(path):
+            broken.append(f"{target}#{anchor}")
+    assert not broken, "README links to nothing:\n" + "\n".join(broken)
+
+
+def test_readme_and_command_pages_name_commands_that_exist():
+    """Every ``make`` target exists in the Makefile, every ``.venv/bin/pygear`` line is
+    accepted by the command's parser, and every script run by ``.venv/bin/python`` exists."""
+    import shlex
+
+    from pygear.cli.parser import build_parser
+
+    targets = set(re.findall(r"^([a-z][\w-]*):", (ROOT / "Makefile").read_text(), re.MULTILINE))
+    parser = build_parser()
+    wrong, seen = [], 0
+    for page in COMMAND_PAGES:
+        if not page.is_file():
+            continue
+        for command in _command_lines(page.read_text()):
+            words = shlex.split(command)
+            seen += 1
+            if words[0] == "make":
+                wrong += [f"{page.name}: {command}"] * (words[1] not in targets)
+            elif words[0] == ".venv/bin/pygear":
+                try:
+                    parser.parse_args(words[1:])
+                except SystemExit:
+                    wrong.append(f"{page.name}: {command}")
+            elif words[0] == ".venv/bin/python" and words[1].endswith(".py"):
+                wrong += [f"{page.name}: {command}"] * (not (ROOT / words[1]).is_file())
+    assert seen > 20  # the pages hold the commands they are meant to
+    assert not wrong, "commands that would fail:\n" + "\n".join(wrong)
