@@ -17,6 +17,7 @@ from .component_rules import (
 )
 from .gear_geometry import GearGeometry
 from .geometry_inputs import check_gear, fill_gear
+from .micro_geometry import Modifications, check_modifications
 from .plausibility import PlausibilityWarning, warn_if_implausible
 
 __all__ = [
@@ -102,6 +103,9 @@ class Gear(Body):
         on a compliant rim.  None or 0 keeps the rim rigid (the ring mesh then comes out
         some 30 to 50 % stiffer: docs/potential_energy.md).  Only a ring (an internal
         ``geometry``) takes it.
+    modifications : Modifications or None
+        Flank micro-geometry, deviations and axis misalignment for the loaded tooth
+        contact analysis (:mod:`pygear.model.micro_geometry`); None: a perfect gear.
     """
 
     base_radius: float | None = None
@@ -110,6 +114,7 @@ class Gear(Body):
     geometry: GearGeometry | None = None
     bore_radius: float | None = None
     rim_radius: float | None = None
+    modifications: Modifications | None = None
 
     def __post_init__(self) -> None:
         fill_gear(self)
@@ -117,6 +122,7 @@ class Gear(Body):
     def validate(self, path: str) -> None:
         super().validate(path)
         check_gear(self, path)
+        check_modifications(f"{path}.modifications", self.modifications)
         if self.bore_radius is not None:
             require_non_negative(f"{path}.bore_radius", self.bore_radius)
             warn_if_implausible(f"{path}.bore_radius", "radius", self.bore_radius, zero_ok=True)
