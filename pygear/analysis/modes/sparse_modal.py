@@ -29,8 +29,9 @@ directions (|sigma| times a mass) above the Cholesky rounding of K (u times a st
 entry).  A diagonal ratio grows as 1 / h^2 when the shafts are meshed finer (h the element
 length) while the lowest modes stay put, so a shift proportional to it must be a tiny
 fraction: the earlier 1e-4 of the reference frequency put the shift at 116 Hz for a
-24 000-DOF drivetrain whose modes of interest lie at 1.7 Hz (460 solves, 30-70 s on a
-loaded machine) and at 580 Hz for 120 000 DOFs, which did not converge.  Should CHOLMOD
+24 000-DOF drivetrain whose modes of interest lie at 1.7 Hz (350-460 solves for 8 modes,
+30-70 s on a loaded machine) and at 580 Hz for 120 000 DOFs (over 1 200 solves, no
+convergence in 100 restarts); now 28 and 40 (benchmarks/bench_sparse_modal.py).  Should CHOLMOD
 meet a non-positive pivot at the default shift, |sigma| grows a hundredfold and the
 factorization is retried.
 
