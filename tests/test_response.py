@@ -168,14 +168,14 @@ def test_bearing_forces_balance_the_mesh_forces():
         assert float(force.sel(bearing=member)) < 1e-9 * expected
 
 
-@pytest.mark.parametrize("speed", [300.0, 1675.0])
+@pytest.mark.parametrize("speed", [300.0, 1675.0, 2400.0])
 def test_iterative_solve_equals_direct(study, speed):
-    """GMRES (relative residual 1e-12 of (2)) and the real LU give the same harmonics to
-    1e-10 of the largest: the condensed matrix's condition number at these speeds is
-    below 1e2, so 1e-12 of residual is at most 1e-10 of solution."""
+    """GMRES (relative residual of (2) at most 1e-10) and the real LU give the same
+    harmonics to 1e-8 of the largest: the condensed matrix's condition number at these
+    speeds is below 1e2 (21, 38 and 11), so 1e-10 of residual is at most 1e-8 of solution."""
     omega = study.omega(speed)
     direct = solve_hill(study, omega, 64, method="direct")
     iterative = solve_hill(study, omega, 64, method="iterative")
     scale = np.abs(direct.deflection).max()
-    assert np.abs(iterative.deflection - direct.deflection).max() <= 1e-10 * scale
+    assert np.abs(iterative.deflection - direct.deflection).max() <= 1e-8 * scale
     assert iterative.residual == pytest.approx(direct.residual, rel=1e-8)
