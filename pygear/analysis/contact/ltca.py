@@ -163,8 +163,10 @@ def loaded_contact(
         centre y [m]): ``te_unloaded``, ``te_loaded``, ``mesh_stiffness`` (F over the
         loaded minus the unloaded TE), ``line_load`` [N/m], ``contact_pressure`` [Pa],
         ``face_load`` (line load summed over the pairs) and per force ``mean_te``,
-        ``te_peak_to_peak``, ``te_harmonics`` (by mesh ``order``), ``k_h_beta``,
-        ``k_h_alpha`` and ``max_contact_pressure``.
+        ``te_peak_to_peak``, ``te_harmonics`` (by mesh ``order``), ``k_h_beta`` (the
+        largest face load over F/b), ``k_h_alpha`` (1 plus the largest extra share of F
+        a tooth pair takes over perfect flanks at the same position) and
+        ``max_contact_pressure``.
 
     Raises
     ------
@@ -178,14 +180,17 @@ def loaded_contact(
     if driving_gear not in (1, 2):
         raise CaseError(f"{path}.driving_gear must be 1 or 2 (got {driving_gear!r})")
     if len(modifications) != 2:
-        raise CaseError(f"{path}.modifications must hold one entry per gear (got {modifications!r})")
+        raise CaseError(
+            f"{path}.modifications must hold one entry per gear (got {modifications!r})"
+        )
     for index, mod in enumerate(modifications):
         check_modifications(f"{path}.modifications[{index}]", mod)
     if coupling_length is not None and not (
         is_finite_number(coupling_length) and 0 <= coupling_length < 10
     ):
         raise CaseError(
-            f"{path}.coupling_length must be a length in [0, 10) m or None (got {coupling_length!r})"
+            f"{path}.coupling_length must be a length in [0, 10) m or None "
+            f"(got {coupling_length!r})"
         )
     stiffness = mesh_stiffness(mesh, bodies, n_slice=1, driving_gear=driving_gear, path=path)
     eps_alpha, eps_beta = stiffness.contact_ratio, stiffness.overlap_ratio
@@ -235,12 +240,12 @@ def _dataset(mesh, bodies, grid, forces, unloaded, loaded, load, ref, rolls, wid
     k_h_beta = face_load.max(axis=(1, 2)) / mean_line
     pair_force = np.moveaxis(load.sum(axis=0), 2, 0)  # (force, pair, position)
     ref_force = np.moveaxis(ref.sum(axis=0), 2, 0)
-    k_h_alpha = pair_force.max(axis=(1, 2)) / ref_force.max(axis=(1, 2))
+    k_h_alpha = 1 + (pair_force - ref_force).max(axis=(1, 2)) / forces
     orders = max(1, min(10, (te.shape[1] // cycles - 1) // 2))
     harmonics = te_harmonics(te, cycles, orders)
     with np.errstate(divide="ignore", invalid="ignore"):
         stiffness = forces[:, None] / (te - unloaded[None, :])
-    force_attrs = {"units": "N", "long_name": "transmitted force along the transverse line of action"}
+    force_attrs = {"units": "N", "long_name": "force along the transverse line of action"}
     return xr.Dataset(
         {
             "te_unloaded": ("position", unloaded,
@@ -266,8 +271,8 @@ def _dataset(mesh, bodies, grid, forces, unloaded, loaded, load, ref, rolls, wid
             "k_h_beta": ("force", k_h_beta,
                          {"units": "1", "long_name": "face load factor: max line load / (F/b)"}),
             "k_h_alpha": ("force", k_h_alpha,
-                          {"units": "1", "long_name": "transverse load factor: largest pair "
-                           "force over that of perfect flanks"}),
+                          {"units": "1", "long_name": "transverse load factor: 1 + largest "
+                           "extra share of F a pair takes over perfect flanks"}),
             "max_contact_pressure": ("force", pressure.max(axis=(1, 2, 3)),
                                      {"units": "Pa", "long_name": "maximum Hertzian pressure"}),
         },

@@ -56,7 +56,7 @@ def slice_grid(
     i = np.arange(n_slice)[:, None, None]
     k = np.arange(n_pair)[None, :, None]
     s = np.asarray(position, dtype=float)[None, None, :]
-    q = s + k - (i + 0.5) * eps_beta / n_slice
+    q = s - np.floor(s) + k - (i + 0.5) * eps_beta / n_slice
     inside = (q >= 0.0) & (q <= eps_alpha)
     width = face_width / n_slice
     return SliceGrid(
