@@ -13,7 +13,6 @@ import scipy.integrate
 from pygear import Bearing, Case, Gear, Gearbox, Mesh, ParallelStage, RayleighDamping, Scene
 from pygear.analysis.response import response_system, solve_hill, sweep_system
 from pygear.analysis.response.continuation import (
-    case_law,
     continue_branch,
     continue_response,
     newton,
@@ -22,6 +21,7 @@ from pygear.analysis.response.continuation import (
 from pygear.analysis.response.nonlinear import (
     BacklashLaw,
     BacklashProblem,
+    case_law,
     oscillator_system,
 )
 from pygear.assembly.mesh_backlash import line_of_action_backlash

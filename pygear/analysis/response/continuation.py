@@ -21,8 +21,8 @@ Stability Analysis*, §4.4-4.6):
 
 :func:`continue_response` follows the contact-loss balance of :mod:`.nonlinear` in
 speed this way and returns the branch, its folds and its stability as a Dataset;
-:func:`case_law` and :func:`separated_response` connect it to a case and to the linear
-sweep of :mod:`.sweep`.
+:func:`separated_response` connects it to the linear sweep of :mod:`.sweep` (and
+:func:`.nonlinear.case_law` to a case).
 """
 
 from __future__ import annotations
@@ -36,16 +36,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from ...assembly.mesh_backlash import line_of_action_backlash
 from ...errors import CaseError
-from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS
 from .nonlinear import BacklashLaw, BacklashProblem
 from .system import ResponseSystem
 
 __all__ = [
     "Branch",
-    "case_law",
     "continue_branch",
     "continue_response",
     "newton",
@@ -409,13 +406,23 @@ def continue_response(
         ``floquet_multiplier``, ``stable``, ``turning`` (+1 where an up sweep jumps
         off the branch, -1 where a down sweep does, at the point before the fold); the
         attributes ``up_sweep_jumps`` and ``down_sweep_jumps`` [rpm] list the folds.
+
+    Raises
+    ------
+    CaseError
+        A speed not > 0, or no static mesh load (nothing presses the flanks).
+    RuntimeError
+        Newton finds no solution at the first speed (start where the response is
+        mild, away from resonances, or give ``start``).
     """
     started = time.perf_counter()
+    if not all(math.isfinite(float(v)) and float(v) > 0 for v in speeds):
+        raise CaseError(f"speeds must be finite and > 0 rpm (got {tuple(speeds)!r})")
     problem = BacklashProblem(system, law, harmonics, samples)
     w0, w1 = system.omega(float(speeds[0])), system.omega(float(speeds[1]))
     scale = float(np.abs(system.static_deflection()).max())
     if not scale > 0:
-        raise ValueError("the system carries no static mesh load to scale the deflections")
+        raise CaseError("no static mesh load: the contact-loss balance needs a torque")
     with _thread_limit():
         branch = continue_branch(
             problem.residual,
@@ -440,35 +447,6 @@ def continue_response(
         turning[fold["index"]] = fold["kind"]
     wall = time.perf_counter() - started
     return _dataset(system, problem, branch, records, multiplier, turning, per_rpm, wall)
-
-
-def case_law(
-    case: Case, system: ResponseSystem, scene: Scene | None = None, smoothing: float = 0.0
-) -> BacklashLaw:
-    """The flank law of a case's meshes: the normal backlash the kernel's
-    ``tooth_separation`` effect uses (:func:`.line_of_action_backlash`).
-
-    Parameters
-    ----------
-    case : Case
-        The case the system was built from.
-    system : ResponseSystem
-        Its response model (the assembled meshes, in order).
-    scene : Scene, optional
-        The scene whose parameter changes apply (as given to :func:`.response_system`).
-    smoothing : float
-        Regularisation of the contact kinks [m] (:class:`BacklashLaw`).
-
-    Raises
-    ------
-    CaseError
-        A mesh has no backlash.
-    """
-    if system.model is None:
-        raise CaseError("the response system carries no assembled model to read meshes from")
-    seen = case.for_scene(scene) if scene is not None else case
-    backlash = line_of_action_backlash(seen, system.model, "tooth_separation")
-    return BacklashLaw(backlash, smoothing)
 
 
 def separated_response(

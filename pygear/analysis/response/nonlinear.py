@@ -47,10 +47,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...assembly.mesh_backlash import line_of_action_backlash
+from ...errors import CaseError
+from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS, floquet_multipliers, segment_means
 from .system import ResponseSystem
 
-__all__ = ["BacklashLaw", "BacklashProblem", "oscillator_system"]
+__all__ = ["BacklashLaw", "BacklashProblem", "case_law", "oscillator_system"]
 
 
 @dataclass(frozen=True)
@@ -204,6 +207,16 @@ class BacklashProblem:
         """Unknowns: n_mesh (2H + 1)."""
         return self.n_mesh * (2 * self.harmonics + 1)
 
+    def _forcing(self) -> np.ndarray:
+        """f_j, j = 0..H, in modal coordinates: the static load and the harmonic force."""
+        s = self.system
+        forcing = np.zeros((self.harmonics + 1, s.size), dtype=complex)
+        forcing[0] = s.force
+        if s.harmonic_force is not None:
+            extra = s.harmonic_force[: self.harmonics]
+            forcing[1 : 1 + extra.shape[0]] = extra
+        return forcing
+
     # -- frequency-domain operators ------------------------------------------------
     def operators(self, omega: float) -> tuple[np.ndarray, ...]:
         """Real receptance operator, load vector and their omega derivatives.
@@ -220,11 +233,7 @@ class BacklashProblem:
         s = self.system
         h, nm = self.harmonics, self.n_mesh
         rows, lam, c = s.mesh_rows, s.eigenvalues, s.damping
-        forcing = np.zeros((h + 1, lam.size), dtype=complex)
-        forcing[0] = s.force
-        if s.harmonic_force is not None:
-            extra = s.harmonic_force[:h]
-            forcing[1 : 1 + extra.shape[0]] = extra
+        forcing = self._forcing()
         j = np.arange(h + 1)[:, None, None]
         ident = np.eye(lam.size)[None]
         d = np.diag(lam)[None] - (j * omega) ** 2 * ident + 1j * j * omega * c[None]
@@ -326,11 +335,7 @@ class BacklashProblem:
         r_complex = np.zeros((h + 1, self.n_mesh), dtype=complex)
         r_complex[0] = r[0]
         r_complex[1:] = 0.5 * (r[1 : h + 1] - 1j * r[h + 1 :])
-        forcing = np.zeros((h + 1, s.size), dtype=complex)
-        forcing[0] = s.force
-        if s.harmonic_force is not None:
-            extra = s.harmonic_force[:h]
-            forcing[1 : 1 + extra.shape[0]] = extra
+        forcing = self._forcing()
         j = np.arange(h + 1)[:, None, None]
         d = (
             np.diag(s.eigenvalues)[None]
@@ -384,3 +389,32 @@ class BacklashProblem:
         x[1 : top + 1] = 2 * deflection[centre + 1 : centre + top + 1].real
         x[h + 1 : h + top + 1] = -2 * deflection[centre + 1 : centre + top + 1].imag
         return x.reshape(-1)
+
+
+def case_law(
+    case: Case, system: ResponseSystem, scene: Scene | None = None, smoothing: float = 0.0
+) -> BacklashLaw:
+    """The flank law of a case's meshes: the normal backlash the kernel's
+    ``tooth_separation`` effect uses (:func:`.line_of_action_backlash`).
+
+    Parameters
+    ----------
+    case : Case
+        The case the system was built from.
+    system : ResponseSystem
+        Its response model (the assembled meshes, in order).
+    scene : Scene, optional
+        The scene whose parameter changes apply (as given to :func:`.response_system`).
+    smoothing : float
+        Regularisation of the contact kinks [m] (:class:`BacklashLaw`).
+
+    Raises
+    ------
+    CaseError
+        A mesh has no backlash.
+    """
+    if system.model is None:
+        raise CaseError("the response system carries no assembled model to read meshes from")
+    seen = case.for_scene(scene) if scene is not None else case
+    backlash = line_of_action_backlash(seen, system.model, "tooth_separation")
+    return BacklashLaw(backlash, smoothing)
