@@ -109,6 +109,9 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "model.drivetrain.Rotor",
             "model.drivetrain.Generator",
             "model.drivetrain.GearboxMount",
+            "model.rotor.Disc",
+            "model.rotor.BearingCoefficients",
+            "model.rotor_case.RotorCase",
         ),
     ),
 )

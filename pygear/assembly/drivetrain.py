@@ -37,7 +37,7 @@ DOF sets
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -63,9 +63,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DRIVETRAIN_DOF_SETS",
+    "BearingTable",
     "DrivetrainModel",
     "assemble_drivetrain",
+    "bearing_tables",
     "build_structure",
+    "node_number",
     "shaft_speed_ratios",
 ]
 
@@ -91,10 +94,11 @@ class DrivetrainModel:
     gyroscopic : scipy.sparse.csc_matrix
         G per unit rotor speed [kg m^2]: each shaft element's own G times its shaft's
         speed over the rotor's, so that ``Omega_rotor G`` is the drivetrain's term.
-    gearbox : Model
-        The gearbox's assembled model (its reduced DOFs are the block).
+    gearbox : Model or None
+        The gearbox's assembled model (its reduced DOFs are the block); None for a
+        plain rotor.
     gearbox_offset : int
-        First global index of the gearbox block.
+        First global index of the gearbox block (the size for a plain rotor).
     end_nodes : dict of str to str
         The node name of every shaft end (``"main_shaft.end" -> "main_shaft_4"``).
     tied : dict of str to str
@@ -102,6 +106,10 @@ class DrivetrainModel:
         gearbox label; a rigid link may have removed it from the reduced ones).
     speed_ratios : dict of str to float
         Each shaft's speed over the rotor's [-].
+    bearing_tables : list of BearingTable
+        Bearings whose lateral coefficients come from a
+        :class:`~pygear.model.rotor.BearingCoefficients` table: not in ``stiffness``
+        and ``damping``; :meth:`at_speed` adds them at a speed.
     """
 
     case_name: str
@@ -111,21 +119,46 @@ class DrivetrainModel:
     stiffness: sp.csc_matrix
     damping: sp.csc_matrix
     gyroscopic: sp.csc_matrix
-    gearbox: Model
+    gearbox: Model | None
     gearbox_offset: int
     end_nodes: dict[str, str]
     tied: dict[str, str] = field(default_factory=dict)
     speed_ratios: dict[str, float] = field(default_factory=dict)
+    bearing_tables: list[BearingTable] = field(default_factory=list)
 
     @property
     def size(self) -> int:
         """Number of DOFs."""
         return len(self.labels)
 
+    def at_speed(self, speed_rpm: float) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+        """K and C at a rotor speed [rpm]: the table bearings' coefficients interpolated
+        at their shafts' speeds added to ``stiffness`` and ``damping``."""
+        if not self.bearing_tables:
+            return self.stiffness, self.damping
+        rows, columns, k_values, c_values = [], [], [], []
+        for table in self.bearing_tables:
+            stiffness, damping = table.coefficients.at(speed_rpm * table.speed_ratio)
+            dofs = [self.index(label) for label in table.labels]
+            for i in range(2):
+                for j in range(2):
+                    rows.append(dofs[i])
+                    columns.append(dofs[j])
+                    k_values.append(stiffness[i, j])
+                    c_values.append(damping[i, j])
+        shape = (self.size, self.size)
+        added_k = sp.csc_matrix((k_values, (rows, columns)), shape=shape)
+        added_c = sp.csc_matrix((c_values, (rows, columns)), shape=shape)
+        return sp.csc_matrix(self.stiffness + added_k), sp.csc_matrix(self.damping + added_c)
+
     def index(self, label: str) -> int:
         """Global index of a DOF label; an eliminated node DOF gives its gearbox DOF."""
         label = self.tied.get(label, label)
-        if label not in self.labels and label in self.gearbox.full_labels:
+        if (
+            label not in self.labels
+            and self.gearbox is not None
+            and label in self.gearbox.full_labels
+        ):
             column = self.gearbox.reduction[self.gearbox.full_labels.index(label)]
             label = self.gearbox.dof_labels[int(np.argmax(abs(column)))]  # its master
         try:
@@ -137,6 +170,33 @@ class DrivetrainModel:
         """The global label of a shaft end's DOF (``"main_shaft.end"``)."""
         label = f"{self.end_nodes[end]}.{dof}"
         return self.tied.get(label, label)
+
+    def node_label(self, shaft: Shaft, position: float, dof: str) -> str:
+        """The global label of a DOF at the node of ``shaft`` nearest ``position`` [m]."""
+        label = f"{shaft.name}_{node_number(shaft, position)}.{dof}"
+        return self.tied.get(label, label)
+
+
+@dataclass(frozen=True)
+class BearingTable:
+    """A bearing whose x-y stiffness and damping come from a coefficient table.
+
+    Attributes
+    ----------
+    name : str
+        The bearing.
+    labels : tuple of str
+        Its node's ``x`` and ``y`` DOF labels.
+    coefficients : BearingCoefficients
+        The table (speeds of the bearing's shaft).
+    speed_ratio : float
+        Its shaft's speed over the rotor's [-].
+    """
+
+    name: str
+    labels: tuple[str, str]
+    coefficients: Any
+    speed_ratio: float = 1.0
 
 
 def assemble_drivetrain(
@@ -166,13 +226,42 @@ def assemble_drivetrain(
     settings = scene_settings(scene)
     dof_set = dof_set or (settings.dof_set if settings else None) or "spatial"
     check_choice("dof_set", dof_set, DRIVETRAIN_DOF_SETS)
+    if drivetrain.gearbox is None:
+        return _rotor_model(case.name, drivetrain, dof_set)
     gearbox = gearbox_model or assemble(case, settings, dof_set=dof_set)
     ratios = shaft_speed_ratios(case)
     structure, end_nodes = build_structure(drivetrain, ratios)
     matrices = structure.assemble()
     if dof_set == "torsional":
         matrices = matrices.torsional()
-    return _combine(case.name, dof_set, matrices, gearbox, drivetrain, end_nodes, ratios)
+    model = _combine(case.name, dof_set, matrices, gearbox, drivetrain, end_nodes, ratios)
+    if dof_set == "spatial":
+        model.bearing_tables = bearing_tables(drivetrain, ratios)
+    return model
+
+
+def _rotor_model(name: str, drivetrain: Drivetrain, dof_set: str) -> DrivetrainModel:
+    """A plain rotor (no gearbox): the structure alone; every shaft turns with the rotor
+    (they can be joined by couplings only)."""
+    ratios = {shaft.name: 1.0 for shaft in drivetrain.shafts}
+    structure, end_nodes = build_structure(drivetrain, ratios)
+    matrices = structure.assemble()
+    if dof_set == "torsional":
+        matrices = matrices.torsional()
+    return DrivetrainModel(
+        case_name=name,
+        dof_set=dof_set,
+        labels=list(matrices.labels),
+        mass=matrices.mass,
+        stiffness=matrices.stiffness,
+        damping=matrices.damping,
+        gyroscopic=matrices.gyroscopic,
+        gearbox=None,
+        gearbox_offset=matrices.size,
+        end_nodes=end_nodes,
+        speed_ratios=ratios,
+        bearing_tables=bearing_tables(drivetrain, ratios) if dof_set == "spatial" else [],
+    )
 
 
 def build_structure(
@@ -197,11 +286,16 @@ def build_structure(
         return structure.node(end_nodes[end])
 
     for bearing in drivetrain.bearings:
-        positions = drivetrain.shaft(bearing.shaft).node_positions()
-        k = int(np.argmin([abs(p - bearing.position) for p in positions]))
+        k = node_number(drivetrain.shaft(bearing.shaft), bearing.position)
+        # a coefficient table's x-y part enters per speed (DrivetrainModel.at_speed)
         stiffness = [bearing.radial, bearing.radial, bearing.axial, bearing.tilt, bearing.tilt, 0]
         damping = [bearing.radial_damping, bearing.radial_damping, bearing.axial_damping, 0, 0, 0]
         structure.add_ground_element(node_of[bearing.shaft][k], bearing_element(stiffness, damping))
+    for disc in drivetrain.discs:
+        k = node_number(drivetrain.shaft(disc.shaft), disc.position)
+        element = disc_element(disc.mass, disc.polar_inertia, disc.diametral_inertia)
+        ratio = (speed_ratios or {}).get(disc.shaft, 1.0)
+        structure.add_element(node_of[disc.shaft][k], _scaled_gyroscopic(element, ratio))
     for coupling in drivetrain.couplings:
         element = coupling_element(
             coupling.torsional,
@@ -211,7 +305,7 @@ def build_structure(
             torsional_damping=coupling.torsional_damping,
         )
         structure.add_element([node_at(coupling.a), node_at(coupling.b)], element)
-    for part in (drivetrain.rotor, drivetrain.generator):
+    for part in (p for p in (drivetrain.rotor, drivetrain.generator) if p is not None):
         disc = disc_element(part.mass, part.polar_inertia, part.diametral_inertia)
         ratio = (speed_ratios or {}).get(part.at.split(".")[0], 1.0)
         structure.add_element(node_at(part.at), _scaled_gyroscopic(disc, ratio))
@@ -220,7 +314,8 @@ def build_structure(
 
 def _add_shaft(structure: Structure, shaft: Shaft, ratio: float) -> list[int]:
     """Nodes ``<shaft>_0 .. <shaft>_n`` and the shaft's elements; with torsional
-    damping, a damper beta G J / L beside each element's twist."""
+    damping, a damper beta G J / L beside each element's twist; with Rayleigh damping,
+    alpha M_e + beta K_e on each element."""
     nodes = [structure.add_node(f"{shaft.name}_0")]
     theta_z = (NODE_DOFS.index("theta_z"), 6 + NODE_DOFS.index("theta_z"))
     for section in shaft.sections:
@@ -233,20 +328,45 @@ def _add_shaft(structure: Structure, shaft: Shaft, ratio: float) -> list[int]:
             shear_modulus=shaft.shear_modulus,
             density=shaft.density,
             shear_deformation=shaft.shear_deformation,
+            shear_coefficient=shaft.shear_coefficient,
         )
         element = _scaled_gyroscopic(element, ratio)
+        damping = shaft.rayleigh_mass * element.mass + shaft.rayleigh_stiffness * element.stiffness
         if shaft.torsional_damping > 0.0:
             polar_moment = np.pi * (section.outer_diameter**4 - section.inner_diameter**4) / 32.0
             twist = shaft.shear_modulus * polar_moment / length  # G J / L [N m/rad]
-            damping = np.zeros((12, 12))
-            damping[np.ix_(theta_z, theta_z)] = (
+            damping[np.ix_(theta_z, theta_z)] += (
                 shaft.torsional_damping * twist * np.array([[1.0, -1.0], [-1.0, 1.0]])
             )
+        if np.any(damping):
             element = ElementMatrices(element.mass, element.stiffness, damping, element.gyroscopic)
         for _ in range(shaft.elements_per_section):
             nodes.append(structure.add_node(f"{shaft.name}_{len(nodes)}"))
             structure.add_element([nodes[-2], nodes[-1]], element)
     return nodes
+
+
+def node_number(shaft: Shaft, position: float) -> int:
+    """The number k of the node ``<shaft>_k`` nearest ``position`` [m] from its start."""
+    positions = shaft.node_positions()
+    return int(np.argmin([abs(p - position) for p in positions]))
+
+
+def bearing_tables(
+    drivetrain: Drivetrain, speed_ratios: dict[str, float] | None = None
+) -> list[BearingTable]:
+    """The bearings with a coefficient table, their nodes' x and y labels (structure
+    labels), and their shafts' speed ratios."""
+    tables = []
+    for bearing in drivetrain.bearings:
+        if bearing.coefficients is None:
+            continue
+        node = f"{bearing.shaft}_{node_number(drivetrain.shaft(bearing.shaft), bearing.position)}"
+        ratio = (speed_ratios or {}).get(bearing.shaft, 1.0)
+        tables.append(
+            BearingTable(bearing.name, (f"{node}.x", f"{node}.y"), bearing.coefficients, ratio)
+        )
+    return tables
 
 
 def _scaled_gyroscopic(element: ElementMatrices, ratio: float) -> ElementMatrices:

@@ -27,6 +27,7 @@ from ..errors import CaseError
 from .components import require_non_negative, require_positive
 from .gearbox import Gearbox, member_dofs, reachable
 from .plausibility import warn_if_implausible
+from .rotor import BearingCoefficients, Disc
 from .values import is_whole_number
 
 __all__ = [
@@ -103,6 +104,15 @@ class Shaft:
     torsional_damping : float
         beta [s], >= 0: a damper beside the shaft's torsion, C = beta K_torsion
         (stiffness-proportional on the twist only, so bending is not damped by it).
+    shear_coefficient : float or None
+        Timoshenko shear coefficient kappa [-] in (0, 1]; None takes Hutchinson's
+        (2001) value for the section and nu = E / (2 G) - 1 (Cowper's
+        6 (1 + nu) / (7 + 6 nu) for a solid section reproduces ROSS's default).
+    rayleigh_mass : float
+        alpha [1/s], >= 0: shaft damping alpha M_e of every element (all DOFs).
+    rayleigh_stiffness : float
+        beta [s], >= 0: shaft damping beta K_e of every element (all DOFs), viscous in
+        the inertial frame (no rotating-damping circulatory term).
     """
 
     name: str
@@ -113,6 +123,9 @@ class Shaft:
     elements_per_section: int = 4
     shear_deformation: bool = True
     torsional_damping: float = 0.0
+    shear_coefficient: float | None = None
+    rayleigh_mass: float = 0.0
+    rayleigh_stiffness: float = 0.0
 
     def __post_init__(self) -> None:
         if isinstance(self.sections, list):
@@ -153,6 +166,15 @@ class Shaft:
                 f"{path}.shear_deformation must be True or False (got {self.shear_deformation!r})"
             )
         require_non_negative(f"{path}.torsional_damping", self.torsional_damping)
+        require_non_negative(f"{path}.rayleigh_mass", self.rayleigh_mass)
+        require_non_negative(f"{path}.rayleigh_stiffness", self.rayleigh_stiffness)
+        kappa = self.shear_coefficient
+        if kappa is not None and not (
+            isinstance(kappa, (int, float)) and not isinstance(kappa, bool) and 0.0 < kappa <= 1.0
+        ):
+            raise CaseError(
+                f"{path}.shear_coefficient must lie in (0, 1] or be None (got {kappa!r})"
+            )
 
 
 @dataclass(frozen=True)
@@ -178,21 +200,39 @@ class ShaftBearing:
         Damping in x and y [N s/m], >= 0.
     axial_damping : float
         Damping in z [N s/m], >= 0.
+    coefficients : BearingCoefficients or None
+        The full 2 x 2 lateral stiffness and damping over the shaft's speed
+        (:class:`~pygear.model.rotor.BearingCoefficients`: anisotropic, cross-coupled,
+        speed-dependent, a fluid-film bearing or a seal); when given it replaces
+        ``radial`` and ``radial_damping``, which must then be 0.
     """
 
     name: str
     shaft: str
     position: float
-    radial: float
+    radial: float = 0.0
     axial: float = 0.0
     tilt: float = 0.0
     radial_damping: float = 0.0
     axial_damping: float = 0.0
+    coefficients: BearingCoefficients | None = None
 
     def validate(self, path: str) -> None:
         require_identifier(f"{path}.name", self.name)
         for name in ("radial", "axial", "tilt", "radial_damping", "axial_damping"):
             require_non_negative(f"{path}.{name}", getattr(self, name))
+        if self.coefficients is not None:
+            if not isinstance(self.coefficients, BearingCoefficients):
+                raise CaseError(
+                    f"{path}.coefficients must be a BearingCoefficients or None "
+                    f"(got {self.coefficients!r})"
+                )
+            self.coefficients.validate(f"{path}.coefficients")
+            if self.radial or self.radial_damping:
+                raise CaseError(
+                    f"{path}.radial and radial_damping must be 0 when coefficients are given "
+                    "(the table holds the lateral stiffness and damping)"
+                )
 
 
 @dataclass(frozen=True)
@@ -301,37 +341,42 @@ class GearboxMount:
 
 @dataclass(frozen=True)
 class Drivetrain:
-    """Shafts, bearings and couplings from the rotor through a gearbox to the generator.
+    """Shafts, bearings and couplings from the rotor through a gearbox to the generator,
+    or a plain rotor: shafts, discs and bearings without a gearbox.
 
     Parameters
     ----------
     shafts : tuple of Shaft
         The shafts, names unique.
-    gearbox : Gearbox
-        The gear stages (the case's gearbox: :class:`~pygear.model.case.Case` checks it).
+    gearbox : Gearbox or None
+        The gear stages (the case's gearbox: :class:`~pygear.model.case.Case` checks it);
+        None for a plain rotor (:class:`~pygear.model.rotor.RotorCase`).
     mounts : tuple of GearboxMount
-        Where the gearbox members sit, at least one; a member and a shaft end at most
-        once each.
-    rotor : Rotor
-        The turbine rotor.
-    generator : Generator
-        The generator.
+        Where the gearbox members sit, at least one with a gearbox, none without; a
+        member and a shaft end at most once each.
+    rotor : Rotor or None
+        The turbine rotor; required with a gearbox.
+    generator : Generator or None
+        The generator; required with a gearbox.
     bearings : tuple of ShaftBearing
         Bearings to the ground.
     couplings : tuple of Coupling
         Couplings between shaft ends.
+    discs : tuple of Disc
+        Rigid discs at shaft nodes (:class:`~pygear.model.rotor.Disc`), names unique.
     """
 
     shafts: tuple[Shaft, ...]
-    gearbox: Gearbox
-    mounts: tuple[GearboxMount, ...]
-    rotor: Rotor
-    generator: Generator
+    gearbox: Gearbox | None = None
+    mounts: tuple[GearboxMount, ...] = ()
+    rotor: Rotor | None = None
+    generator: Generator | None = None
     bearings: tuple[ShaftBearing, ...] = ()
     couplings: tuple[Coupling, ...] = ()
+    discs: tuple[Disc, ...] = ()
 
     def __post_init__(self) -> None:
-        for name in ("shafts", "mounts", "bearings", "couplings"):
+        for name in ("shafts", "mounts", "bearings", "couplings", "discs"):
             if isinstance(getattr(self, name), list):
                 object.__setattr__(self, name, tuple(getattr(self, name)))
 
@@ -343,9 +388,17 @@ class Drivetrain:
         known = ", ".join(s.name for s in self.shafts)
         raise CaseError(f"no shaft named {name!r} (shafts: {known})")
 
+    def disc(self, name: str) -> Disc:
+        """The disc called ``name``."""
+        for disc in self.discs:
+            if disc.name == name:
+                return disc
+        known = ", ".join(d.name for d in self.discs) or "none"
+        raise CaseError(f"no disc named {name!r} (discs: {known})")
+
     def validate(self, path: str = "drivetrain") -> None:
         """Check every component and every reference; raise :class:`CaseError`."""
-        for name in ("shafts", "mounts", "bearings", "couplings"):
+        for name in ("shafts", "mounts", "bearings", "couplings", "discs"):
             if not isinstance(getattr(self, name), tuple):
                 raise CaseError(f"{path}.{name} must be a tuple")
         if not self.shafts:
@@ -355,11 +408,13 @@ class Drivetrain:
                 raise CaseError(f"{path}.shafts[{n}] must be a Shaft (got {shaft!r})")
             shaft.validate(f"{path}.shafts[{n}]")
         _require_unique(f"{path}.shafts", [s.name for s in self.shafts])
-        if not isinstance(self.gearbox, Gearbox):
-            raise CaseError(f"{path}.gearbox must be a Gearbox (got {self.gearbox!r})")
+        if self.gearbox is not None and not isinstance(self.gearbox, Gearbox):
+            raise CaseError(f"{path}.gearbox must be a Gearbox or None (got {self.gearbox!r})")
         shafts = {s.name: s for s in self.shafts}
         for name, kind in (("rotor", Rotor), ("generator", Generator)):
             part = getattr(self, name)
+            if part is None and self.gearbox is None:
+                continue
             if not isinstance(part, kind):
                 raise CaseError(f"{path}.{name} must be a {kind.__name__} (got {part!r})")
             part.validate(f"{path}.{name}")
@@ -371,6 +426,13 @@ class Drivetrain:
             bearing.validate(where)
             self._check_bearing_position(where, bearing, shafts)
         _require_unique(f"{path}.bearings", [b.name for b in self.bearings])
+        for n, disc in enumerate(self.discs):
+            where = f"{path}.discs[{n}]"
+            if not isinstance(disc, Disc):
+                raise CaseError(f"{where} must be a Disc (got {disc!r})")
+            disc.validate(where)
+            self._check_bearing_position(where, disc, shafts)
+        _require_unique(f"{path}.discs", [d.name for d in self.discs])
         for n, coupling in enumerate(self.couplings):
             where = f"{path}.couplings[{n}]"
             if not isinstance(coupling, Coupling):
@@ -381,7 +443,11 @@ class Drivetrain:
             if coupling.a == coupling.b:
                 raise CaseError(f"{where} joins {coupling.a} to itself")
         _require_unique(f"{path}.couplings", [c.name for c in self.couplings])
-        self._check_mounts(path, shafts)
+        if self.gearbox is None:
+            if self.mounts:
+                raise CaseError(f"{path}.mounts must be empty without a gearbox")
+        else:
+            self._check_mounts(path, shafts)
         self._check_connected(path)
 
     @staticmethod
@@ -397,7 +463,7 @@ class Drivetrain:
             )
 
     @staticmethod
-    def _check_bearing_position(path: str, bearing: ShaftBearing, shafts: dict[str, Shaft]) -> None:
+    def _check_bearing_position(path: str, bearing: object, shafts: dict[str, Shaft]) -> None:
         shaft = shafts.get(bearing.shaft)
         if shaft is None:
             raise CaseError(
@@ -452,11 +518,13 @@ class Drivetrain:
     def _check_connected(self, path: str) -> None:
         edges = [(c.a.split(".")[0], c.b.split(".")[0]) for c in self.couplings]
         edges += [(m.at.split(".")[0], "<gearbox>") for m in self.mounts]
-        reached = reachable(self.rotor.at.split(".")[0], edges)
+        first = self.rotor.at.split(".")[0] if self.rotor is not None else self.shafts[0].name
+        reached = reachable(first, edges)
         lost = [s.name for s in self.shafts if s.name not in reached]
         if lost:
+            where = f"the rotor on {self.rotor.at}" if self.rotor else f"shaft {first!r}"
             raise CaseError(
-                f"{path}.shafts: shaft {lost[0]!r} has no path to the rotor on {self.rotor.at} "
+                f"{path}.shafts: shaft {lost[0]!r} has no path to {where} "
                 "(add a coupling or a gearbox mount on it)"
             )
 
