@@ -26,11 +26,12 @@ import xarray as xr
 
 from pygear import Probe, load_case
 from pygear.io import IncompleteFileError, open_dataset
+from pygear.model.reduction_settings import Reductions
 from pygear.runs import streaming
 from pygear.runs.transient_outputs import write_transient
 
 STUDY = Path(__file__).resolve().parent.parent / "cases" / "yang2016_planetary"
-VOLATILE = {"history", "wall_s", "solver_wall_s", "complete"}  # differ between any two runs
+VOLATILE = {"history", "source", "wall_s", "solver_wall_s", "complete"}  # time, git revision
 RTOL = 1e-12  # summation order only (see the module docstring)
 
 
@@ -123,14 +124,22 @@ def test_streamed_sensor_with_structure_and_noise_equals_the_whole_record(study,
 KILLED_RUN = """
 import dataclasses, sys
 from pygear import load_case
+from pygear.model.reduction_settings import Reductions
 from pygear.runs import streaming
 from pygear.runs.transient_outputs import write_transient
 
+import pygear.io
+
 streaming.BUFFER_BYTES = 1024 * 8 * 10
+# the code's identity pinned: sources edited between the killed and the resumed process
+# (a working tree others edit) would otherwise make the resumed run refuse the partial
+pygear.io.source_identity = lambda: "pinned"
 case = load_case(sys.argv[1])
 scene = case.scene("runup")
+reductions = Reductions(keep_frequency=2000.0, statistics=True, rainflow=("mesh_force",),
+                        load_duration=("drive_torque",), bins=32)
 scene = dataclasses.replace(scene, analyses=("transient",), transient=dataclasses.replace(
-    scene.transient, duration=float(sys.argv[3]), mean_window=0.2))
+    scene.transient, duration=float(sys.argv[3]), mean_window=0.2, reductions=reductions))
 write_transient(case, scene, sys.argv[2], checkpoint=sys.argv[2] + "/state.npz",
                 checkpoint_every=float(sys.argv[4]), figure=False, stream=True,
                 resume=sys.argv[2] + "/state.npz" if len(sys.argv) > 5 else None)
@@ -138,7 +147,15 @@ write_transient(case, scene, sys.argv[2], checkpoint=sys.argv[2] + "/state.npz",
 
 
 def _killed_scene(case, duration):
-    return _short(case, "runup", duration, mean_window=0.2)
+    """The killed run's scene, with every reduction (their state crosses the resume)."""
+    reductions = Reductions(
+        keep_frequency=2000.0,
+        statistics=True,
+        rainflow=("mesh_force",),
+        load_duration=("drive_torque",),
+        bins=32,
+    )
+    return _short(case, "runup", duration, mean_window=0.2, reductions=reductions)
 
 
 def test_sigkill_half_way_leaves_no_complete_file_and_resume_completes_it(study, tmp_path):
@@ -194,7 +211,9 @@ def test_sigkill_half_way_leaves_no_complete_file_and_resume_completes_it(study,
     assert result.returncode == 0, result.stderr
     assert "running runup.nc from the start" not in result.stderr  # continued, not restarted
     assert sorted(p.name for p in out.iterdir()) == ["runup.nc"]
-    _assert_same_file(out / "runup.nc", whole / "runup.nc")
+    _assert_same_file(out / "runup.nc", whole / "runup.nc")  # reductions included
+    with open_dataset(out / "runup.nc") as resumed:
+        assert "rainflow_mesh_force" in resumed and "speed_decimated" in resumed
 
 
 MEMORY_RUN = """

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..errors import CaseError
 from .components import is_finite_number, is_whole_number, require_non_negative, require_positive
+from .reduction_settings import Reductions
 
 __all__ = [
     "EQUIVALENT_LOAD_MODES",
@@ -411,6 +412,9 @@ class Transient:
         rotation taking the net torque as acceleration (inertia relief), instead of
         undeflected: a steady operating point then starts without the torsional swing
         of loads applied at once.  The deflection is that of the mean mesh stiffness.
+    reductions : Reductions, optional
+        What a streamed run reduces on the fly (decimated channels, statistics, load
+        duration distributions, rainflow matrices; :mod:`pygear.model.reduction_settings`).
     """
 
     duration: float
@@ -435,6 +439,7 @@ class Transient:
     contact_sign: tuple[int, ...] | None = None
     initial_speed_rpm: float = 0.0
     start_loaded: bool = False
+    reductions: Reductions | None = None
 
     def __post_init__(self) -> None:
         if isinstance(self.probes, list):
@@ -556,6 +561,11 @@ class Transient:
             raise CaseError(
                 f"{path}.start_loaded must be True or False (got {self.start_loaded!r})"
             )
+        if self.reductions is not None:
+            if not isinstance(self.reductions, Reductions):
+                raise CaseError(f"{path}.reductions must be a Reductions (got {self.reductions!r})")
+            rate = 1.0 / (self.decimation * self.time_step)
+            self.reductions.validate(f"{path}.reductions", rate)
 
     def describe(self) -> str:
         """One line for logs."""

@@ -97,6 +97,7 @@ def write_transient(
                 stage = "writing the result"
             else:
                 check_transient_memory(problem.settings, len(problem.probes), where)
+                consumers = scene_reductions(problem)  # a variable it lacks: refused first
                 dataset = run_transient(
                     case,
                     scene,
@@ -107,6 +108,7 @@ def write_transient(
                     resume=resume,
                 )
                 stage = "writing the result"
+                dataset = _reduced(dataset, consumers)
                 dataset = dataset.merge(analysis_references(case, problem.model, dataset))
                 # the inputs that made it, kept for what is computed from it (its spectra)
                 dataset.attrs.update(input_hash=case.input_hash(), case_json=case_json(case))
@@ -184,6 +186,19 @@ def _write_streamed(
             sink.discard()
         raise
     return open_dataset(path), path
+
+
+def _reduced(dataset: xr.Dataset, consumers: list) -> xr.Dataset:
+    """``dataset`` with the scene's reductions of its whole record (the streamed run
+    computes the same block by block: :mod:`pygear.analysis.time.reductions`)."""
+    if not consumers:
+        return dataset
+    columns = {name: v.values for name, v in dataset.data_vars.items() if "time" in v.dims}
+    columns["time"] = dataset["time"].values
+    for consumer in consumers:
+        consumer.update(0, columns)
+        dataset = dataset.merge(consumer.variables(), combine_attrs="override")
+    return dataset
 
 
 def _checkpoint_samples(path) -> int:
