@@ -29,9 +29,9 @@ from ...kernel import _kernel
 from ...model import gear_geometry as geo
 from ...model.component_rules import is_finite_number
 from ...model.micro_geometry import Modifications, check_modifications
-from .ltca_geometry import contact_rolls, separation, slice_grid
+from .ltca_geometry import SliceGrid, contact_rolls, separation, slice_grid
 
-__all__ = ["loaded_contact", "solve_slices", "te_harmonics"]
+__all__ = ["contact_dataset", "loaded_contact", "solve_slices", "te_harmonics"]
 
 _KERNEL_ERRORS = {
     1: "an input is out of range",
@@ -147,7 +147,7 @@ def loaded_contact(
         revolution of the gear (its tooth number of cycles).
     coupling_length : float or None
         Decay length lambda of the Pasternak coupling of slices [m], >= 0; 0 uncouples
-        them (a Winkler foundation).  None: the mean whole depth of the two teeth.
+        them (a Winkler foundation).  None: the normal module (ASSUMED, docs/contact.md).
     hertz : bool
         Include Yang & Lin's linear Hertz compliance (as the potential-energy law does).
     driving_gear : int
@@ -164,8 +164,10 @@ def loaded_contact(
         loaded minus the unloaded TE), ``line_load`` [N/m], ``contact_pressure`` [Pa],
         ``face_load`` (line load summed over the pairs) and per force ``mean_te``,
         ``te_peak_to_peak``, ``te_harmonics`` (by mesh ``order``), ``k_h_beta`` (the
-        largest face load over F/b), ``k_h_alpha`` (1 plus the largest extra share of F
-        a tooth pair takes over perfect flanks at the same position) and
+        peak of the face load's mean over the positions, over F/b), ``k_h_beta_peak``
+        (the largest face load at any position over F/b), ``k_h_alpha`` (1 plus the
+        largest extra share of F a tooth pair takes over perfect flanks at the same
+        position) and
         ``max_contact_pressure``.
 
     Raises
@@ -196,16 +198,14 @@ def loaded_contact(
     eps_alpha, eps_beta = stiffness.contact_ratio, stiffness.overlap_ratio
     width = min(mesh.gear1.face_width, mesh.gear2.face_width)
     if coupling_length is None:
-        coupling_length = 0.5 * sum(
-            geo.tip_radius(g) - geo.root_radius(g) if not g.internal
-            else geo.root_radius(g) - geo.tip_radius(g)
-            for g in (mesh.gear1, mesh.gear2)
-        )
+        coupling_length = float(mesh.gear1.normal_module)
     position = np.arange(n_position * cycles) / n_position
     grid = slice_grid(position, n_slice, width, eps_alpha, eps_beta)
     total = sum(stiffness.compliance.values())
-    c_hertz_whole = float(stiffness.compliance["hertz"][0])
-    c_whole = np.interp(grid.path, stiffness.spur_position, total)
+    # the law's samples without contact (0: an end of the path a hair beyond the flank)
+    known = total > 0
+    c_hertz_whole = float(stiffness.compliance["hertz"][known][0])
+    c_whole = np.interp(grid.path, stiffness.spur_position[known], total[known])
     c_struct = (c_whole - c_hertz_whole) * n_slice
     c_hertz = np.full_like(c_struct, c_hertz_whole * n_slice if hertz else 0.0)
     rolls = contact_rolls(mesh, grid.path, stiffness.base_pitch, driving_gear)
@@ -220,24 +220,41 @@ def loaded_contact(
                            path=path)[2]  # fmt: skip
     else:
         ref = load
-    return _dataset(
-        mesh, bodies, grid, forces, unloaded, loaded, load, ref, rolls, width, cycles,
+    factor = np.transpose(_pressure_factor(mesh, bodies, rolls), (2, 1, 0))
+    return contact_dataset(
+        grid, forces, unloaded, loaded, load, ref, factor, width, cycles,
         dict(eps_alpha=eps_alpha, eps_beta=eps_beta, base_pitch=stiffness.base_pitch,
              coupling_length=coupling_length, hertz=int(hertz), driving_gear=driving_gear,
              n_slice=n_slice, mesh=path, max_iterations=int(iterations.max())),
     )  # fmt: skip
 
 
-def _dataset(mesh, bodies, grid, forces, unloaded, loaded, load, ref, rolls, width, cycles,
-             attrs) -> xr.Dataset:  # fmt: skip
+def contact_dataset(
+    grid: SliceGrid,
+    forces: np.ndarray,
+    unloaded: np.ndarray,
+    loaded: np.ndarray,
+    load: np.ndarray,
+    ref: np.ndarray,
+    pressure_factor: np.ndarray | float,
+    width: float,
+    cycles: int,
+    attrs: dict,
+) -> xr.Dataset:
+    """The LTCA's Dataset from the kernel's arrays (see :func:`loaded_contact`);
+    ``pressure_factor`` is E*/(pi R) over (position, pair, slice) [Pa/m] (NaN: unknown),
+    ``ref`` the slice loads of perfect flanks."""
     n_slice = grid.face.size
     te = loaded.T  # (force, position)
     line = np.moveaxis(load, 3, 0) * n_slice / width  # (force, slice, pair, position)
     line = np.transpose(line, (0, 3, 2, 1))  # (force, position, pair, slice)
-    pressure = np.sqrt(line * np.transpose(_pressure_factor(mesh, bodies, rolls), (2, 1, 0)))
+    pressure = np.sqrt(line * pressure_factor)
     face_load = line.sum(axis=2)  # (force, position, slice)
     mean_line = forces / width
-    k_h_beta = face_load.max(axis=(1, 2)) / mean_line
+    # ISO 6336-1's K_Hbeta: the face load distribution over the mesh cycle's mean (every
+    # transverse section sees every path position once per cycle), its peak over F/b
+    k_h_beta = face_load.mean(axis=1).max(axis=1) / mean_line
+    k_h_beta_peak = face_load.max(axis=(1, 2)) / mean_line
     pair_force = np.moveaxis(load.sum(axis=0), 2, 0)  # (force, pair, position)
     ref_force = np.moveaxis(ref.sum(axis=0), 2, 0)
     k_h_alpha = 1 + (pair_force - ref_force).max(axis=(1, 2)) / forces
@@ -269,7 +286,11 @@ def _dataset(mesh, bodies, grid, forces, unloaded, loaded, load, ref, rolls, wid
             "te_harmonics": (("force", "order"), harmonics,
                              {"units": "m", "long_name": "amplitude of TE mesh harmonics"}),
             "k_h_beta": ("force", k_h_beta,
-                         {"units": "1", "long_name": "face load factor: max line load / (F/b)"}),
+                         {"units": "1", "long_name": "face load factor: peak of the cycle's "
+                          "mean face load over F/b"}),
+            "k_h_beta_peak": ("force", k_h_beta_peak,
+                              {"units": "1", "long_name": "largest face load at any position "
+                               "over F/b"}),
             "k_h_alpha": ("force", k_h_alpha,
                           {"units": "1", "long_name": "transverse load factor: 1 + largest "
                            "extra share of F a pair takes over perfect flanks"}),
