@@ -436,7 +436,10 @@ def continue_response(
             tolerance=tolerance,
             max_points=max_points,
         )
-        records = [problem.summary(x, SEPARATION_SAMPLES) for x in branch.states]
+        records = [
+            problem.summary(x, SEPARATION_SAMPLES, w)
+            for x, w in zip(branch.states, branch.parameter)
+        ]
         multiplier = np.full(branch.parameter.size, np.nan, dtype=complex)
         if stability:
             for i, (x, w) in enumerate(zip(branch.states, branch.parameter)):

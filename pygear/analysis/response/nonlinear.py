@@ -50,7 +50,7 @@ import numpy as np
 from ...assembly.mesh_backlash import line_of_action_backlash
 from ...errors import CaseError
 from ...model.case import Case, Scene
-from .floquet import DEFAULT_SEGMENTS, floquet_multipliers, segment_means
+from .floquet import DEFAULT_SEGMENTS, batched_expm, floquet_multipliers, segment_means
 from .system import ResponseSystem
 
 __all__ = ["BacklashLaw", "BacklashProblem", "case_law", "oscillator_system"]
@@ -67,13 +67,28 @@ class BacklashLaw:
     smoothing : float
         eps >= 0 [m]: each kink max(c, 0) is replaced by (c + sqrt(c^2 + eps^2)) / 2, a
         regularised contact (0: the kernel's exact law).
+    mesh_damping : ndarray, shape (n_mesh,), optional
+        c_m [N s/m]: the mesh's viscous damper (its share beta kbar_m of the linear
+        model's Rayleigh damping), made to act only while the flanks touch, as the
+        kernel's does: F_m gains c_m g'(c) dc/dt.  None: the damper stays on across the
+        gap (Kahraman & Singh's model).  Needs ``smoothing`` > 0: the switched damper
+        makes the force jump at contact, which Newton and the monodromy cannot take.
     """
 
     backlash: np.ndarray
     smoothing: float = 0.0
+    mesh_damping: np.ndarray | None = None
 
-    def shape(self, compression: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """g(c) and g'(c), arrays of shape (..., n_mesh)."""
+    def __post_init__(self) -> None:
+        damper = self.mesh_damping
+        if damper is not None and np.any(np.asarray(damper) > 0) and not self.smoothing > 0:
+            raise ValueError(
+                "a mesh damper that parts with the teeth needs smoothing > 0 (its force "
+                "jumps at contact otherwise)"
+            )
+
+    def shape(self, compression: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """g(c), g'(c) and g''(c) (0 for the exact law), arrays of shape (..., n_mesh)."""
         c = compression
         b = np.asarray(self.backlash, dtype=np.float64)
         eps = float(self.smoothing)
@@ -82,14 +97,13 @@ class BacklashLaw:
         if eps == 0.0:
             g = np.maximum(c, 0.0) + np.where(finite, np.minimum(coast, 0.0), 0.0)
             slope = (c > 0).astype(np.float64) + (finite & (coast < 0))
-            return g, slope
+            return g, slope, np.zeros_like(g)
         root = np.sqrt(c * c + eps * eps)
-        g = 0.5 * (c + root)
-        slope = 0.5 * (1 + c / root)
         root_b = np.sqrt(coast * coast + eps * eps)
-        g_b = np.where(finite, 0.5 * (coast - root_b), 0.0)
-        s_b = np.where(finite, 0.5 * (1 - coast / root_b), 0.0)
-        return g + g_b, slope + s_b
+        g = 0.5 * (c + root) + np.where(finite, 0.5 * (coast - root_b), 0.0)
+        slope = 0.5 * (1 + c / root) + np.where(finite, 0.5 * (1 - coast / root_b), 0.0)
+        bend = 0.5 * eps * eps * (1 / root**3 - np.where(finite, 1 / root_b**3, 0.0))
+        return g, slope, bend
 
 
 def oscillator_system(
@@ -143,16 +157,19 @@ def oscillator_system(
     )
 
 
-def _basis(harmonics: int, samples: int) -> tuple[np.ndarray, np.ndarray]:
+def _basis(harmonics: int, samples: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Real synthesis E (samples, 2H+1) and analysis A (2H+1, samples) matrices over
-    [1, cos k theta, ..., sin k theta, ...], theta_n = 2 pi n / samples."""
+    [1, cos k theta, ..., sin k theta, ...], theta_n = 2 pi n / samples, and E' = dE /
+    dtheta (the rate is omega E' x)."""
     theta = 2 * math.pi * np.arange(samples) / samples
     k = np.arange(1, harmonics + 1)
     phase = np.outer(theta, k)
-    synthesis = np.concatenate([np.ones((samples, 1)), np.cos(phase), np.sin(phase)], axis=1)
+    cos, sin = np.cos(phase), np.sin(phase)
+    synthesis = np.concatenate([np.ones((samples, 1)), cos, sin], axis=1)
     analysis = synthesis.T * (2.0 / samples)
     analysis[0] *= 0.5
-    return synthesis, analysis
+    rate = np.concatenate([np.zeros((samples, 1)), -k * sin, k * cos], axis=1)
+    return synthesis, analysis, rate
 
 
 def _resample(values: np.ndarray, count: int) -> np.ndarray:
@@ -196,10 +213,12 @@ class BacklashProblem:
         if n <= 2 * h:
             raise ValueError(f"{n} samples cannot resolve harmonic {h}")
         self.samples = n
-        self.synthesis, self.analysis = _basis(h, n)
+        self.synthesis, self.analysis, self.rate = _basis(h, n)
         self.stiffness = _resample(np.asarray(system.stiffness, dtype=np.float64), n)
         self.sign = np.asarray(system.contact_sign, dtype=np.float64)
         self.n_mesh = system.mesh_rows.shape[0]
+        damper = law.mesh_damping
+        self.damper = np.zeros(self.n_mesh) if damper is None else np.asarray(damper, float)
         self._cache: tuple | None = None
 
     @property
@@ -264,7 +283,9 @@ class BacklashProblem:
         return result
 
     # -- time domain ---------------------------------------------------------------
-    def signals(self, x: np.ndarray, samples: int | None = None) -> tuple[np.ndarray, ...]:
+    def signals(
+        self, x: np.ndarray, samples: int | None = None, omega: float | None = None
+    ) -> tuple[np.ndarray, ...]:
         """Mesh deflection, contact force and contact stiffness over one period.
 
         Parameters
@@ -273,65 +294,110 @@ class BacklashProblem:
             Unknowns, flat or shape (2H+1, n_mesh).
         samples : int, optional
             Instants (default the AFT's N).
+        omega : float, optional
+            Fundamental [rad/s]: the switched mesh dampers' force joins the spring's.
 
         Returns
         -------
         deflection, force, slope : ndarray, shape (samples, n_mesh)
-            delta_m [m]; F_m = k_m g(s_m delta_m) [N], > 0 on the drive flank, < 0 on
-            the coast flank; k_m g'(c) [N/m].
+            delta_m [m]; F_m = k_m g(s_m delta_m) (+ c_m g' dc/dt) [N], > 0 on the
+            drive flank, < 0 on the coast flank; k_m g'(c) [N/m].
         """
         coefficients = np.reshape(x, (2 * self.harmonics + 1, self.n_mesh))
         if samples is None or samples == self.samples:
-            synthesis, stiffness = self.synthesis, self.stiffness
+            synthesis, rate, stiffness = self.synthesis, self.rate, self.stiffness
         else:
-            synthesis = _basis(self.harmonics, samples)[0]
+            synthesis, _, rate = _basis(self.harmonics, samples)
             stiffness = _resample(np.asarray(self.system.stiffness, dtype=np.float64), samples)
         deflection = synthesis @ coefficients
-        g, dg = self.law.shape(self.sign * deflection)
-        return deflection, stiffness * g, stiffness * dg
+        g, dg, _ = self.law.shape(self.sign * deflection)
+        force = stiffness * g
+        if omega is not None and np.any(self.damper):
+            force = force + self.damper * dg * self.sign * omega * (rate @ coefficients)
+        return deflection, force, stiffness * dg
+
+    def _local(
+        self, x: np.ndarray, omega: float, synthesis: np.ndarray, rate: np.ndarray,
+        stiffness: np.ndarray,
+    ) -> tuple[np.ndarray, ...]:  # fmt: skip
+        """r = p - kbar delta at the instants of ``synthesis``, its derivatives along
+        delta and along its rate, and the rate over omega."""
+        coefficients = np.reshape(x, (2 * self.harmonics + 1, self.n_mesh))
+        deflection = synthesis @ coefficients
+        g, dg, bend = self.law.shape(self.sign * deflection)
+        kbar = self.system.mean_stiffness
+        r = self.sign * stiffness * g - kbar * deflection
+        along = stiffness * dg - kbar
+        across = np.zeros_like(r)
+        unit_rate = rate @ coefficients
+        if np.any(self.damper):  # c_m (g'(c) - 1) delta': the damper off in the gap
+            across = self.damper * (dg - 1)
+            r = r + omega * across * unit_rate
+            along = along + self.damper * bend * self.sign * omega * unit_rate
+        return r, along, across, unit_rate
 
     def residual(self, x: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """R(x, omega) of (3), dR/dx and dR/domega (flat, length :attr:`size`)."""
         gain, gain_dw, load, load_dw = self.operators(omega)
-        deflection, force, slope = self.signals(x)
-        kbar = self.system.mean_stiffness
-        r = self.sign * force - kbar * deflection  # p - kbar delta along delta
+        r, along, across, unit_rate = self._local(
+            x, omega, self.synthesis, self.rate, self.stiffness
+        )
         r_coeff = self.analysis @ r  # (2H+1, n_mesh)
         coefficients = np.reshape(x, r_coeff.shape)
         res = coefficients + np.einsum("imjl,jl->im", gain, r_coeff) - load
-        tangent = self.analysis[:, None, :] * (slope - kbar).T[None]  # (2H+1, n_mesh, N)
-        local = tangent @ self.synthesis  # dr_coeff/dx per mesh
+        a = self.analysis[:, None, :]
+        local = (a * along.T[None]) @ self.synthesis  # dr_coeff/dx per mesh
+        d_r = np.einsum("imjl,jl->im", gain_dw, r_coeff)
+        if np.any(self.damper):  # the damper's rate omega E' x: along x and along omega
+            local = local + omega * (a * across.T[None]) @ self.rate
+            damper_r = self.analysis @ (across * unit_rate)
+            d_r = d_r + np.einsum("imjl,jl->im", gain, damper_r)
         jac = np.einsum("imjl,jlk->imkl", gain, local)
         size = self.size
         jac = jac.reshape(size, size) + np.eye(size)
-        d_omega = np.einsum("imjl,jl->im", gain_dw, r_coeff) - load_dw
-        return res.reshape(-1), jac, d_omega.reshape(-1)
+        return res.reshape(-1), jac, (d_r - load_dw).reshape(-1)
 
     def multipliers(
         self, x: np.ndarray, omega: float, segments: int = DEFAULT_SEGMENTS
     ) -> np.ndarray:
         """Floquet multipliers of the orbit x at omega, largest modulus first.
 
-        The variational equation's stiffness Lambda + B^T diag(k g'(c) - kbar) B is
+        The variational equation's stiffness Lambda + B^T diag(dr/ddelta + kbar) B (and,
+        with switched mesh dampers, its damping C_r + B^T diag(c_m (g' - 1)) B) is
         averaged over each of ``segments`` intervals from 16 instants per interval
         (the contact switches inside an interval enter through the mean).
         """
         count = segments * 16
-        _, _, slope = self.signals(x, count)
-        variation = segment_means(slope - self.system.mean_stiffness, segments)
+        synthesis, _, rate = _basis(self.harmonics, count)
+        stiffness = _resample(np.asarray(self.system.stiffness, dtype=np.float64), count)
+        _, along, across, _ = self._local(x, omega, synthesis, rate, stiffness)
         rows = self.system.mesh_rows
-        stiffness = np.diag(self.system.eigenvalues)[None] + np.einsum(
-            "mi,sm,mj->sij", rows, variation, rows
+        stiff = np.diag(self.system.eigenvalues)[None] + np.einsum(
+            "mi,sm,mj->sij", rows, segment_means(along, segments), rows
         )
-        return floquet_multipliers(stiffness, self.system.damping, 2 * math.pi / omega)
+        period = 2 * math.pi / omega
+        if not np.any(self.damper):
+            return floquet_multipliers(stiff, self.system.damping, period)
+        damp = self.system.damping[None] + np.einsum(
+            "mi,sm,mj->sij", rows, segment_means(across, segments), rows
+        )
+        n = rows.shape[1]
+        a = np.zeros((segments, 2 * n, 2 * n))
+        a[:, :n, n:] = np.eye(n)
+        a[:, n:, :n] = -stiff
+        a[:, n:, n:] = -damp
+        product = np.eye(2 * n)
+        for step in batched_expm(a * (period / segments)):
+            product = step @ product
+        values = np.linalg.eigvals(product)
+        return values[np.argsort(-np.abs(values))]
 
     def modal_coefficients(self, x: np.ndarray, omega: float) -> np.ndarray:
         """Complex modal coefficients y_j, j = 0..H, of the orbit x (y(t) = y_0 + 2 Re
         sum_j y_j e^{i j omega t}): y_j = D_j^-1 (f_j - B^T r_j), shape (H + 1, n)."""
         s = self.system
         h = self.harmonics
-        deflection, force, _ = self.signals(x)
-        r = self.analysis @ (self.sign * force - s.mean_stiffness * deflection)
+        r = self.analysis @ self._local(x, omega, self.synthesis, self.rate, self.stiffness)[0]
         r_complex = np.zeros((h + 1, self.n_mesh), dtype=complex)
         r_complex[0] = r[0]
         r_complex[1:] = 0.5 * (r[1 : h + 1] - 1j * r[h + 1 :])
@@ -345,11 +411,11 @@ class BacklashProblem:
         rhs = forcing - r_complex @ s.mesh_rows
         return np.linalg.solve(d, rhs[..., None])[..., 0]
 
-    def summary(self, x: np.ndarray, samples: int) -> dict:
+    def summary(self, x: np.ndarray, samples: int, omega: float | None = None) -> dict:
         """Per-mesh force extremes and mean, DTE RMS and peak to peak, and whether the
         drive flanks part (``separation``) or the coast flanks meet (``coast``), read
         at ``samples`` instants of the period."""
-        deflection, force, _ = self.signals(x, samples)
+        deflection, force, _ = self.signals(x, samples, omega)
         compression = self.sign * deflection
         dte = deflection - deflection.mean(axis=0)
         return {
