@@ -27,6 +27,7 @@ from . import (
     campbell,
     cases,
     condition,
+    contact,
     modal,
     rate,
     response,
@@ -37,7 +38,7 @@ from . import (
 __all__ = ["build_parser", "main"]
 
 _FAMILIES = (
-    run, modal, campbell, response, batch, accuracy, condition, rate, cases, show_case
+    run, modal, campbell, response, batch, accuracy, condition, contact, rate, cases, show_case
 )
 """Command families, in the order their subcommands are listed."""
 
