@@ -425,6 +425,11 @@ def test_linear_sweep_hook_continues_where_the_teeth_part():
     system = response_system(case, case.scenes[0], samples=2**12, torque=50.0)
     law = case_law(case, system)
     assert law.backlash == pytest.approx([0.1e-3 * math.cos(math.radians(20))])
+    assert law.mesh_damping is None  # the linear model's damper stays on in the gap
+    switched = case_law(case, system, smoothing=4e-8, switched_dampers=True)
+    assert switched.mesh_damping == pytest.approx([2e-6 * 3e8])  # beta kbar, the kernel's
+    with pytest.raises(ValueError, match="smoothing"):
+        case_law(case, system, switched_dampers=True)
     quiet = sweep_system(system, np.linspace(5000.0, 6500.0, 7), harmonics=16, stability=False)
     assert separated_response(system, quiet, law) is None
     speeds = np.linspace(6500.0, 7500.0, 41)

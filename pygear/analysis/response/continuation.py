@@ -568,6 +568,7 @@ def _dataset(
         "aft_samples": problem.samples,
         "backlash": np.asarray(problem.law.backlash, dtype=np.float64),
         "smoothing": float(problem.law.smoothing),
+        "switched_mesh_damping": problem.damper,
         "up_sweep_jumps": np.array([s for s, k in folds if k > 0]),
         "down_sweep_jumps": np.array([s for s, k in folds if k < 0]),
         "finished": int(branch.finished),

@@ -458,7 +458,12 @@ class BacklashProblem:
 
 
 def case_law(
-    case: Case, system: ResponseSystem, scene: Scene | None = None, smoothing: float = 0.0
+    case: Case,
+    system: ResponseSystem,
+    scene: Scene | None = None,
+    smoothing: float = 0.0,
+    *,
+    switched_dampers: bool = False,
 ) -> BacklashLaw:
     """The flank law of a case's meshes: the normal backlash the kernel's
     ``tooth_separation`` effect uses (:func:`.line_of_action_backlash`).
@@ -473,6 +478,10 @@ def case_law(
         The scene whose parameter changes apply (as given to :func:`.response_system`).
     smoothing : float
         Regularisation of the contact kinks [m] (:class:`BacklashLaw`).
+    switched_dampers : bool
+        Each mesh's damper (beta kbar_m, :class:`.MeshElement`) acts only while its
+        flanks touch, as in the kernel's transient; needs ``smoothing`` > 0 (a small
+        share of the static mesh deflection, e.g. 1 %).
 
     Raises
     ------
@@ -483,4 +492,7 @@ def case_law(
         raise CaseError("the response system carries no assembled model to read meshes from")
     seen = case.for_scene(scene) if scene is not None else case
     backlash = line_of_action_backlash(seen, system.model, "tooth_separation")
-    return BacklashLaw(backlash, smoothing)
+    dampers = None
+    if switched_dampers:
+        dampers = np.array([m.damping for m in system.model.meshes], dtype=np.float64)
+    return BacklashLaw(backlash, smoothing, dampers)
