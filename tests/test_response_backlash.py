@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 import scipy.integrate
+import xarray as xr
 
 from pygear import Bearing, Case, Gear, Gearbox, Mesh, ParallelStage, RayleighDamping, Scene
 from pygear.analysis.response import response_system, solve_hill, sweep_system
@@ -415,7 +416,7 @@ def test_gearbox_orbit_multipliers_match_the_flow():
     assert abs(got.imag) < 1e-9
 
 
-def test_linear_sweep_hook_continues_where_the_teeth_part():
+def test_linear_sweep_hook_continues_where_the_teeth_part(tmp_path):
     """The hook for the linear sweep: nothing where the linear solution keeps the teeth
     together (5000-6500 rpm), and where it parts them, a softening loop whose up-sweep
     fold lies past the first speed the linear sweep separates (on the lower branch the
@@ -441,6 +442,11 @@ def test_linear_sweep_hook_continues_where_the_teeth_part():
     first, second = np.flatnonzero(dataset.turning.values)
     assert dataset.separation.values[first + 1 : second + 1, 0].all()
     assert dataset.speed.values[-1] >= 7500.0 and dataset.attrs["finished"]
+    assert "stable" not in dataset  # no multipliers asked: no flag that would read 0
+    dataset.to_netcdf(tmp_path / "branch.nc")  # every attribute is one NetCDF takes
+    back = xr.open_dataset(tmp_path / "branch.nc")
+    assert np.atleast_1d(back.attrs["up_sweep_jumps"]) == pytest.approx([up])
+    back.close()
 
 
 def _cubic(x: np.ndarray, p: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -535,16 +535,6 @@ def _dataset(
         "coast_contact": (per_mesh, stack("coast").astype(np.int8),
                           {"units": "1", "long_name": "1 where the coast flanks meet in "
                            "the period (back-side impact)"}),
-        "floquet_multiplier": ("point", np.abs(multiplier),
-                               {"units": "1", "long_name": "largest Floquet multiplier "
-                                "modulus of the linearised periodic system"}),
-        "floquet_argument": ("point", np.angle(multiplier),
-                             {"units": "rad", "long_name": "argument of the largest Floquet "
-                              "multiplier: 0 where it leaves the unit circle at +1 (fold), "
-                              "pi at -1 (period doubling), else a torus (Neimark-Sacker)"}),
-        "stable": ("point", (np.abs(multiplier) < 1.0).astype(np.int8),
-                   {"units": "1", "long_name": "1 where every Floquet multiplier lies "
-                    "inside the unit circle"}),
         "turning": ("point", turning,
                     {"units": "1", "long_name": "+1 before a fold where an up sweep jumps, "
                      "-1 before one where a down sweep jumps"}),
@@ -555,6 +545,19 @@ def _dataset(
         "iterations": ("point", branch.iterations.astype(np.int32),
                        {"units": "1", "long_name": "Newton corrector iterations"}),
     }  # fmt: skip
+    if not np.all(np.isnan(multiplier)):
+        data.update({
+            "floquet_multiplier": ("point", np.abs(multiplier),
+                                   {"units": "1", "long_name": "largest Floquet multiplier "
+                                    "modulus of the linearised periodic system"}),
+            "floquet_argument": ("point", np.angle(multiplier),
+                                 {"units": "rad", "long_name": "argument of the largest Floquet "
+                                  "multiplier: 0 where it leaves the unit circle at +1 (fold), "
+                                  "pi at -1 (period doubling), else a torus (Neimark-Sacker)"}),
+            "stable": ("point", (np.abs(multiplier) < 1.0).astype(np.int8),
+                       {"units": "1", "long_name": "1 where every Floquet multiplier lies "
+                        "inside the unit circle"}),
+        })  # fmt: skip
     coords = {
         "point": ("point", np.arange(speed.size, dtype=np.int32), {"long_name": "branch point"}),
         "mesh": ("mesh", np.array(system.names, dtype=object), {"long_name": "mesh"}),
