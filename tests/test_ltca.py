@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pygear.analysis.contact.ltca import loaded_contact
+from pygear.analysis.contact.ltca import loaded_contact, solve_slices
 from pygear.analysis.contact.ltca_geometry import contact_rolls
 from pygear.assembly.tooth_stiffness import ToothBody, mesh_stiffness
 from pygear.errors import CaseError
@@ -54,6 +54,36 @@ def test_perfect_spur_pair_is_the_potential_energy_law():
     # The sampled mean of a curve that jumps by Delta k ~ 1.4e8 N/m twice per cycle
     # differs from its integral by at most Delta k / 400 per jump: ~1e-3 of k-bar.
     assert float(fine.mesh_stiffness.mean()) == pytest.approx(law.mean_stiffness, rel=2e-3)
+
+
+def test_coupling_carries_nothing_under_a_uniform_deflection():
+    """The Pasternak shear springs between slices of an unmodified spur pair stay
+    unstretched: TE = F / k(s) with the coupling as without it (to round-off)."""
+    coupled = loaded_contact(SPUR, BODIES, FORCE, n_position=20, coupling_length=3.2e-3)
+    plain = loaded_contact(SPUR, BODIES, FORCE, n_position=20)
+    np.testing.assert_allclose(coupled.te_loaded.values, plain.te_loaded.values, rtol=1e-9)
+
+
+def test_kernel_solves_the_contact_problem_of_two_coupled_slices():
+    """Two slices of stiffness k coupled by k_c, the first one 1 um away.  Below the load
+    that closes that gap only the second carries: delta = C_22 F with C = K^-1,
+    C_22 = (k + k_c) / (k (k + 2 k_c)), and the first slice's deflection C_12 F must stay
+    below its gap; above it both carry and delta = (F + k g) / (2 k) (the shear spring
+    stretched by the gap g between them: sum of loads = k (2 delta - g))."""
+    k, k_c, g = 1e8, 5e7, 1e-6
+    c_struct = np.full((2, 1, 1), 1 / k)
+    gap = np.array([g, 0.0]).reshape(2, 1, 1)
+    kappa = k_c / k  # k_c = kappa 2 / (c_1 + c_2) with equal compliances
+    small = 10.0
+    closing = g / ((k + k_c) / (k * (k + 2 * k_c)) - k_c / (k * (k + 2 * k_c)))
+    unloaded, loaded, load, _ = solve_slices(c_struct, np.zeros_like(c_struct),
+                                             np.ones((2, 1, 1), dtype=np.int32), gap, kappa,
+                                             np.array([small, 3 * closing]))  # fmt: skip
+    assert unloaded[0] == 0.0
+    assert loaded[0, 0] == pytest.approx((k + k_c) / (k * (k + 2 * k_c)) * small, rel=1e-12)
+    np.testing.assert_allclose(load[:, 0, 0, 0], [0.0, small], atol=1e-12 * small)
+    assert loaded[0, 1] == pytest.approx((3 * closing + k * g) / (2 * k), rel=1e-12)
+    assert load[:, 0, 0, 1].sum() == pytest.approx(3 * closing, rel=1e-12)
 
 
 def test_perfect_helical_pair_without_coupling_is_the_sliced_law():
@@ -179,7 +209,7 @@ def test_k_h_beta_of_a_misaligned_pair_against_iso_6336():
     assert float(ds.k_h_beta_peak[0]) > iso
 
 
-def _helical_ripple(overlap: float, coupling_length: float | None) -> float:
+def _helical_ripple(overlap: float, coupling_length: float) -> float:
     beta, module = 15.0, 3e-3
     probe = geo.GearGeometry(teeth=19, normal_module=module, face_width=0.01,
                              helix_angle_deg=beta)  # fmt: skip
@@ -196,10 +226,11 @@ def _helical_ripple(overlap: float, coupling_length: float | None) -> float:
     return float(ds.te_peak_to_peak[0] / ds.mean_te[0])
 
 
-@pytest.mark.parametrize("coupling_length", [0.0, None])
+@pytest.mark.parametrize("coupling_length", [0.0, 3e-3])
 def test_helical_te_ripple_falls_as_the_overlap_ratio_nears_an_integer(coupling_length):
     """(d) The total contact line length of a helical pair is constant at integer
-    eps_beta, so the TE ripple falls from eps_beta = 0.5 to 1."""
+    eps_beta, so the TE ripple falls from eps_beta = 0.5 to 1 (uncoupled slices, and
+    coupled over a decay length of the normal module)."""
     ripple = [_helical_ripple(e, coupling_length) for e in (0.5, 0.75, 0.9, 1.0)]
     assert ripple[0] > ripple[1] > ripple[2] > ripple[3]
     assert ripple[3] < 0.3 * ripple[0]

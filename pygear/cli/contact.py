@@ -44,6 +44,10 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--cycles", type=int, default=1,
         help="mesh cycles to cover (pitch deviations and runout: a revolution)",
     )  # fmt: skip
+    contact.add_argument(
+        "--coupling-length", type=float, default=0.0, metavar="M",
+        help="decay length of the slices' Pasternak coupling [m]; 0 (default) uncoupled",
+    )  # fmt: skip
     contact.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     contact.add_argument(
         "--out", type=Path, help="write contact.nc, contact.md and contact.png here"
@@ -61,7 +65,8 @@ def _contact(args: argparse.Namespace) -> int:
     if args.scene is not None:
         case = case.for_scene(case.scene(args.scene))
     ds = case_loaded_contact(case, args.mesh, torques, n_slice=args.slices,
-                             n_position=args.positions, cycles=args.cycles)  # fmt: skip
+                             n_position=args.positions, cycles=args.cycles,
+                             coupling_length=args.coupling_length)  # fmt: skip
     if args.out is not None:
         from ..plots.contact import plot_contact
 

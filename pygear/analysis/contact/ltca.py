@@ -121,7 +121,7 @@ def loaded_contact(
     n_slice: int = 40,
     n_position: int = 20,
     cycles: int = 1,
-    coupling_length: float | None = None,
+    coupling_length: float = 0.0,
     hertz: bool = True,
     driving_gear: int = 1,
     path: str = "mesh",
@@ -145,9 +145,12 @@ def loaded_contact(
     cycles : int
         Mesh cycles covered (1..10000): a single pitch deviation or runout needs a
         revolution of the gear (its tooth number of cycles).
-    coupling_length : float or None
-        Decay length lambda of the Pasternak coupling of slices [m], >= 0; 0 uncouples
-        them (a Winkler foundation).  None: the normal module (ASSUMED, docs/contact.md).
+    coupling_length : float
+        Decay length lambda of the Pasternak coupling of neighbouring slices [m], >= 0.
+        0 (the default) leaves the slices uncoupled (a Winkler foundation, as the
+        potential-energy law's slicing and ISO 6336-1's K_Hbeta take the face); the
+        coupling is not calibrated and loads the face ends and the contact lines' ends
+        under a varying deflection (docs/contact.md).
     hertz : bool
         Include Yang & Lin's linear Hertz compliance (as the potential-energy law does).
     driving_gear : int
@@ -187,18 +190,13 @@ def loaded_contact(
         )
     for index, mod in enumerate(modifications):
         check_modifications(f"{path}.modifications[{index}]", mod)
-    if coupling_length is not None and not (
-        is_finite_number(coupling_length) and 0 <= coupling_length < 10
-    ):
+    if not (is_finite_number(coupling_length) and 0 <= coupling_length < 10):
         raise CaseError(
-            f"{path}.coupling_length must be a length in [0, 10) m or None "
-            f"(got {coupling_length!r})"
+            f"{path}.coupling_length must be a length in [0, 10) m (got {coupling_length!r})"
         )
     stiffness = mesh_stiffness(mesh, bodies, n_slice=1, driving_gear=driving_gear, path=path)
     eps_alpha, eps_beta = stiffness.contact_ratio, stiffness.overlap_ratio
     width = min(mesh.gear1.face_width, mesh.gear2.face_width)
-    if coupling_length is None:
-        coupling_length = float(mesh.gear1.normal_module)
     position = np.arange(n_position * cycles) / n_position
     grid = slice_grid(position, n_slice, width, eps_alpha, eps_beta)
     total = sum(stiffness.compliance.values())

@@ -121,7 +121,7 @@ def case_loaded_contact(
     n_slice: int = 40,
     n_position: int = 20,
     cycles: int = 1,
-    coupling_length: float | None = None,
+    coupling_length: float = 0.0,
 ) -> xr.Dataset:
     """LTCA of the mesh ``name`` of ``case`` at the torques ``torques`` [N m] on the mesh
     name's first gear (carried by this mesh).
