@@ -569,3 +569,20 @@ def test_switched_mesh_damper_matches_the_flow():
         amplitudes.append(float(np.ptp(problem.signals(x, 2048)[0])))
     assert amplitudes[1] > 3 * amplitudes[0]  # two distinct orbits
     assert amplitudes[1] > np.ptp(always.signals(upper_always, 2048)[0])
+
+
+def test_hook_starts_from_the_top_when_the_bottom_has_no_start():
+    """At 0.5 rad/s a strong excitation (F_a = 0.2, gap 0.2) puts the oscillator in a
+    superharmonic resonance where Newton from the linear solution finds nothing (the
+    direct call says so); the hook then continues down from the top speed instead."""
+    system = oscillator_system(ZETA, F_M, 0.2)
+    law = BacklashLaw(np.array([0.2]))
+    with pytest.raises(RuntimeError, match="no solution at the start"):
+        continue_response(system, law, (0.5, 0.6), harmonics=16, stability=False)
+    linear = xr.Dataset(
+        {"separation": (("speed", "mesh"), np.ones((2, 1), dtype=np.int8))},
+        coords={"speed": [0.5, 0.6]},
+    )
+    dataset = separated_response(system, linear, law, harmonics=16, stability=False)
+    assert dataset.speed.values[0] == pytest.approx(0.6) and dataset.speed.values[-1] <= 0.5
+    assert dataset.attrs["finished"]

@@ -459,7 +459,8 @@ def separated_response(
 
     The hook for :func:`.sweep.sweep_system`: when its dataset flags tooth separation
     at any speed, the branch with the flank law is continued over the sweep's speed
-    range from its lowest speed, so every fold and branch between them comes out.
+    range from its lowest speed (from its highest when Newton finds no solution at the
+    lowest), so every fold and branch between them comes out.
 
     Parameters
     ----------
@@ -479,8 +480,11 @@ def separated_response(
     """
     if not bool(np.any(linear["separation"].values)):
         return None
-    speeds = linear["speed"].values
-    return continue_response(system, law, (float(speeds.min()), float(speeds.max())), **options)
+    low, high = float(linear["speed"].values.min()), float(linear["speed"].values.max())
+    try:
+        return continue_response(system, law, (low, high), **options)
+    except RuntimeError:
+        return continue_response(system, law, (high, low), **options)
 
 
 def _thread_limit() -> contextlib.AbstractContextManager:
