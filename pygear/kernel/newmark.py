@@ -18,6 +18,7 @@ error decoding already live in :mod:`pygear.kernel.newmark_support`.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import signal
@@ -42,10 +43,12 @@ from .newmark_support import (
     PhysicalInstabilityError,
     TransientError,
     TransientInterrupted,
+    blas_threads,
     checkpoint_key,
     deferred_interrupt,
     growth_diagnostic,
     kernel_error,
+    limited_blas,
     load_checkpoint,
     save_checkpoint,
     scheme_coefficients,
@@ -228,6 +231,18 @@ class SampleSink(Protocol):
     def restore(self, state: dict, written: int) -> None: ...
 
 
+def _blas_limited(method):
+    """Run ``method`` with the BLAS threads the model needs (:func:`blas_threads`: one
+    below a few hundred DOFs), the previous limits restored after it."""
+
+    @functools.wraps(method)
+    def limited(self, *args, **kwargs):
+        with limited_blas(getattr(self, "blas_threads", 1)):
+            return method(self, *args, **kwargs)
+
+    return limited
+
+
 def _last_samples(tail: np.ndarray | None, fresh: np.ndarray, limit: int) -> np.ndarray:
     """The last ``limit`` samples of ``tail`` followed by ``fresh``."""
     joined = fresh.copy() if tail is None else np.concatenate([tail, fresh], axis=1)
@@ -324,6 +339,7 @@ class BandedNewmark:
         self.bandwidth = storage.bandwidth
         self.linear_solver, self.linear_solver_reason = storage.linear_solver, storage.reason
         self.bands = storage.bands
+        self.blas_threads = blas_threads(n)  # what a step's solve can use
         self.sparse_arguments = storage.sparse
 
         c = self.coefficients
@@ -514,6 +530,7 @@ class BandedNewmark:
 
     # --- running -----------------------------------------------------------------------------
 
+    @_blas_limited
     def start(
         self,
         q0: np.ndarray | None = None,
@@ -546,6 +563,7 @@ class BandedNewmark:
             "istate": np.array(istate, dtype=np.int32),
         }
 
+    @_blas_limited
     def run(
         self,
         n_steps: int,

@@ -80,7 +80,12 @@ def write_transient(
         try:
             if problem is None:
                 problem = transient_problem(
-                    case, scene, formulation=formulation, model=model, check_memory=False
+                    case,
+                    scene,
+                    formulation=formulation,
+                    model=model,
+                    check_memory=False,
+                    reuse=True,  # the problem the checks before the run built
                 )
             where = f"scenes.{scene.name}.transient"
             check_transient_disk(problem.settings, len(problem.probes), directory, where)

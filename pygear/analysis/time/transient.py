@@ -109,11 +109,19 @@ def transient_problem(
     formulation: str | None = None,
     model: Model | None = None,
     check_memory: bool = True,
+    reuse: bool = False,
 ) -> TransientProblem:
     """Assemble, check and set up the transient of ``scene``; nothing is integrated.
 
     ``check_memory`` False leaves out the check that the whole record fits in memory
     (a streamed run holds one block of it: :mod:`pygear.runs.streaming`).
+
+    The problem built last (by a call without ``reuse``) is kept for one call with
+    ``reuse`` and the same inputs (case, scene, formulation, model, the ``PYGEAR_``
+    environment), which takes it over instead of building it again: the checks of
+    every scene before a run (:func:`pygear.runs.scene_checks.check_scenes`) build each
+    scene's problem, and the run (:func:`pygear.runs.transient_outputs.write_transient`)
+    takes it.
 
     Raises
     ------
@@ -125,6 +133,64 @@ def transient_problem(
     if settings is None:
         raise CaseError(f"{path}: scene {scene.name!r} has no transient settings")
     settings.validate(path)
+    key = _problem_key(case, scene, formulation, model)
+    built = _LAST_BUILT.pop(key, None) if reuse else None
+    if built is not None:
+        if check_memory:
+            check_transient_memory(settings, len(built.probes), path)
+        return built
+    problem = _new_problem(case, scene, formulation, model, check_memory, path)
+    _LAST_BUILT.clear()
+    if not reuse:  # a run's own problem is not handed to the next run
+        _LAST_BUILT[key] = problem
+    return problem
+
+
+_LAST_BUILT: dict = {}
+"""The problem built last, by :func:`_problem_key`: handed over once to the next call."""
+
+
+def _problem_key(case: Case, scene: Scene, formulation: str | None, model: Model | None) -> str:
+    """Digest of what a problem is built from: the case (but its other scenes), the
+    scene, the formulation and the model's matrices when given."""
+    from ... import io
+
+    fields = {f.name: getattr(case, f.name) for f in dataclasses.fields(case) if f.name != "scenes"}
+    matrices = ()
+    if model is not None:
+        matrices = tuple(_matrix_bytes(m) for m in (model.mass, model.damping, model.stiffness)) + (
+            model.formulation,
+            model.dof_set,
+            tuple(model.dof_labels),
+        )
+    environment = sorted((k, v) for k, v in os.environ.items() if k.startswith("PYGEAR_"))
+    return io.stable_digest((fields, scene, formulation, matrices, environment))
+
+
+def _matrix_bytes(matrix) -> str:
+    """A digest of a dense or SciPy sparse matrix's values."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    if hasattr(matrix, "tocsr"):
+        matrix = matrix.tocsr()
+        for part in (matrix.data, matrix.indices, matrix.indptr):
+            digest.update(np.ascontiguousarray(part).tobytes())
+    else:
+        digest.update(np.ascontiguousarray(matrix, dtype=np.float64).tobytes())
+    return digest.hexdigest()
+
+
+def _new_problem(
+    case: Case,
+    scene: Scene,
+    formulation: str | None,
+    model: Model | None,
+    check_memory: bool,
+    path: str,
+) -> TransientProblem:
+    """:func:`transient_problem` built anew."""
+    settings = scene.transient
     if model is None and case.drivetrain is not None:  # the whole drivetrain
         from ...assembly.drivetrain_model import drivetrain_transient_model
 
