@@ -66,7 +66,8 @@ class CaseMesh:
 
 
 def _geared(case: Case) -> list:
-    return [s for s in case.gearbox.stages if stage_mesh_members(s)]
+    gearbox = getattr(case, "gearbox", None)
+    return [s for s in getattr(gearbox, "stages", ()) if stage_mesh_members(s)]
 
 
 def case_mesh_names(case: Case) -> tuple[str, ...]:
@@ -100,9 +101,12 @@ def case_mesh(case: Case, name: str) -> CaseMesh:
             radius = float(getattr(stage, member).base_radius)
             # the potential-energy law's power flow: carrier in, sun out
             return CaseMesh(name, stage, member, geometry, gears, 2, radius)
+    names = case_mesh_names(case)
+    if not names:
+        raise CaseError(f"--mesh {name!r}: case {case.name!r} has no gear meshes")
     raise CaseError(
         f"--mesh {name!r} is not a mesh of case {case.name!r}; its meshes are: "
-        + ", ".join(case_mesh_names(case))
+        + ", ".join(names)
     )
 
 
