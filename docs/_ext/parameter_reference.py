@@ -42,11 +42,13 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
     ),
     (
         "Transient settings",
-        "The ``transient`` of a scene: time stepping, torque laws and output probes.",
+        "The ``transient`` of a scene: time stepping, torque laws, output probes and the "
+        "reductions counted on the fly.",
         (
             "model.transient_settings.Transient",
             "model.transient_settings.TorqueLaw",
             "model.transient_settings.Probe",
+            "model.reduction_settings.Reductions",
         ),
     ),
     (
@@ -92,6 +94,28 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
         ),
     ),
     (
+        "Flank micro-geometry",
+        "A gear's modifications, deviations and misalignment for the loaded tooth contact "
+        "analysis (``Gear(modifications=...)``, ``pygear contact``).",
+        (
+            "model.micro_geometry.Modifications",
+            "model.micro_geometry.ProfileRelief",
+            "model.micro_geometry.EndRelief",
+            "model.micro_geometry.Deviations",
+            "model.micro_geometry.Misalignment",
+        ),
+    ),
+    (
+        "Rolling bearings",
+        "Rolling-element bearings as case data: their geometry for the defect frequencies "
+        "and contact loads, and their defects.",
+        (
+            "model.rolling_bearing.RollingBearing",
+            "model.rolling_bearing.BearingDefect",
+            "model.rolling_bearing.DistributedFault",
+        ),
+    ),
+    (
         "Sensors",
         "Accelerometers on the ring or housing of a planetary stage.",
         ("model.sensors.Sensor", "model.sensors.StructuralMode"),
@@ -112,6 +136,18 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "model.rotor.Disc",
             "model.rotor.BearingCoefficients",
             "model.rotor_case.RotorCase",
+        ),
+    ),
+    (
+        "Rating",
+        "A case file's module-level ``rating = Rating(...)``, read by ``pygear rate`` "
+        "(:doc:`/rating`): materials, rated load, required safeties, duty cycle and "
+        "bearings.",
+        (
+            "model.rating.Rating",
+            "model.rating.Material",
+            "model.rating.DutyCycle",
+            "model.rating.RollingBearingData",
         ),
     ),
 )

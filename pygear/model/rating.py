@@ -98,7 +98,7 @@ class Material:
         Quality grade ML, MQ or ME (reported; the limits above are what is used).
     hardness_hb : float or None
         Brinell hardness of a through-hardened gear (the work-hardening factor Z_W of a
-        soft gear meshing with a hardened one); None for surface-hardened gears.
+        soft gear meshing with a hardened one) [HBW]; None for surface-hardened gears.
     young_modulus, poisson_ratio : float
         Elastic constants (Z_E) [Pa], [-].
     flank_roughness_rz, root_roughness_rz : float
@@ -198,7 +198,7 @@ class DutyCycle:
     torque : tuple of float
         Input torque of each bin [N m] (> 0; the rated torque's direction).
     hours : tuple of float
-        Hours in each bin (>= 0, at least one > 0).
+        Hours in each bin [h] (>= 0, at least one > 0).
     speed_rpm : tuple of float or None
         Input speed of each bin [rpm]; None runs every bin at the rating's speed.
     """
@@ -256,24 +256,24 @@ class RollingBearingData:
         The body it carries: "<stage>.planet" (load from the planet's two meshes, per
         planet) or any other label with ``radial_load`` and ``axial_load`` given.
     share : float
-        Fraction of the body's load this bearing carries (two bearings side by side
+        Fraction of the body's load this bearing carries [-] (two bearings side by side
         on a planet pin: 0.5).
     radial_load, axial_load : float or None
         Loads at the rated torque [N] for a bearing whose load pygear does not derive;
         they scale linearly with the torque of a duty-cycle bin.
     e, X, Y : float
-        ISO 281 factors for F_a/F_r > e (P = X F_r + Y F_a).
+        ISO 281 factors for F_a/F_r > e (P = X F_r + Y F_a) [-].
     Y1 : float
-        Y for F_a/F_r <= e (P = F_r + Y1 F_a).
+        Y for F_a/F_r <= e (P = F_r + Y1 F_a) [-].
     speed_factor : float or None
-        Bearing speed over the input speed; None for a planet bearing (derived from
+        Bearing speed over the input speed [-]; None for a planet bearing (derived from
         the stage's kinematics).
     pitch_diameter : float
         Mean diameter d_m = (D + d)/2 [m] (viscosity ratio kappa of a_ISO).
     fatigue_load_limit : float or None
         C_u [N]; None estimates it from C0 (ISO 281 Annex B, roller or ball).
     contamination : float
-        e_C of ISO 281 Table 13 (0 < e_C <= 1).
+        e_C of ISO 281 Table 13 [-] (0 < e_C <= 1).
     viscosity : float
         Operating kinematic viscosity nu of the lubricant [mm^2/s].
     """
@@ -342,19 +342,19 @@ class Rating:
     application_factor : float
         K_A (ISO 6336-1 Annex) [-], >= 1.
     required_sh, required_sf : float
-        Minimum safeties S_Hmin and S_Fmin.
+        Minimum safeties S_Hmin and S_Fmin [-].
     service_life_h : float
         Design life [h] (number of load cycles of the static rating).
     load_sharing : dict of str to float
-        K_gamma per planetary stage; a stage left out takes the default for its planet
+        K_gamma per planetary stage [-]; a stage left out takes the default for its planet
         count (see :mod:`pygear.analysis.rating`), unless it has position errors.
     planet_position_errors : dict of str to tuple of float
         Per planetary stage, each planet's position error along the line of action [m]
         (> 0: ahead in the loaded sense); K_gamma then comes from the static model at the
         rated torque (:mod:`pygear.analysis.rating.load_sharing`).
     dynamic_factor, face_load_factor, transverse_load_factor : dict of str to float
-        K_v, K_Hbeta and K_Halpha (= K_Falpha) per mesh, named "<stage>.sun",
-        "<stage>.ring" or "<stage>.mesh"; a mesh left out gets the standard's method.
+        K_v, K_Hbeta and K_Halpha (= K_Falpha) per mesh [-], named "<stage>.sun_mesh",
+        "<stage>.ring_mesh" or "<stage>.mesh"; a mesh left out gets the standard's method.
     accuracy_grade : int
         ISO 1328-1 accuracy grade Q (pitch and profile deviations of K_v, K_Halpha).
     oil_viscosity_40 : float

@@ -39,6 +39,7 @@ __all__ = [
     "BearingDefect",
     "DistributedFault",
     "RollingBearing",
+    "rolling_bearings_of",
 ]
 
 BEARING_TYPES = ("ball", "roller")
@@ -114,14 +115,14 @@ class RollingBearing:
     roller_length : float or None
         Effective roller length l [m]; required for rollers, None for balls.
     inner_conformity, outer_conformity : float
-        Groove radius over ball diameter f = r / d of a ball bearing's races, > 0.5
+        Groove radius over ball diameter f = r / d of a ball bearing's races [-], > 0.5
         (Harris: 0.515 .. 0.53 typical).
     rows : int
         Rows of elements sharing the load (a double-row bearing: 2).
     young_modulus : float
         Elastic modulus of rings and elements [Pa] (bearing steel 2.075e11).
     poisson_ratio : float
-        Poisson's ratio, 0 <= nu < 0.5 (steel 0.3).
+        Poisson's ratio [-], 0 <= nu < 0.5 (steel 0.3).
     location : str
         The body it carries: ``"<stage>.planet"`` for a planet bearing (outer ring the
         planet's bore, inner ring the carrier's pin) or a member such as
@@ -343,3 +344,24 @@ class DistributedFault:
         phase = self.waviness_phase_deg
         if not is_finite_number(phase):
             raise CaseError(f"{path}.waviness_phase_deg must be a finite angle (got {phase!r})")
+
+
+def rolling_bearings_of(case: object) -> tuple[RollingBearing, ...]:
+    """The rolling bearings a case carries: its ``rolling_bearings`` attribute (a
+    sequence of :class:`RollingBearing`), empty when it has none.
+
+    Raises
+    ------
+    CaseError
+        An item that is not a :class:`RollingBearing`, or two with one name.
+    """
+    bearings = tuple(getattr(case, "rolling_bearings", None) or ())
+    for n, bearing in enumerate(bearings):
+        if not isinstance(bearing, RollingBearing):
+            raise CaseError(
+                f"rolling_bearings[{n}] must be a RollingBearing (got {type(bearing).__name__})"
+            )
+    names = [b.name for b in bearings]
+    if len(set(names)) != len(names):
+        raise CaseError(f"rolling_bearings: names must be unique (got {names})")
+    return bearings
