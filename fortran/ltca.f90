@@ -1,6 +1,6 @@
 !> Loaded tooth contact analysis (LTCA) of one gear mesh by the slice method
 !> (Conry & Seireg 1973: the contact of elastic bodies as a problem in non-negative
-!> loads; docs/contact.md has the equations).
+!> loads; the documentation's contact page has the equations).
 !>
 !> The contact lines of the tooth pairs in mesh are cut into slices along the face.
 !> Slice i of pair k at mesh position j has the structural compliance c_ik (tooth bending,

@@ -1,9 +1,9 @@
 """``pygear contact CASE --mesh MESH [--torque T | --torques A:B:N] [--json] [--out DIR]``:
 the loaded tooth contact of one mesh.
 
-Runs the loaded tooth contact analysis (docs/contact.md) of MESH over a mesh cycle at
-each torque (the torque this mesh carries on its first-named gear: the sun, the ring,
-the input gear) and prints the TE, its harmonics, K_Hbeta, K_Halpha and the Hertzian
+Runs the loaded tooth contact analysis (the documentation's contact page) of MESH over
+a mesh cycle at each torque (the torque this mesh carries on its first-named gear: the
+sun, the ring, the input gear) and prints the TE, its harmonics, K_Hbeta, K_Halpha and the Hertzian
 pressure per torque; ``--json`` prints one JSON object instead; ``--out`` writes
 ``contact.nc``, ``contact.md`` and ``contact.png`` (TE curves, the TE peak-to-peak
 against torque and the contact pattern).

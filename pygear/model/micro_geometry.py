@@ -1,6 +1,6 @@
 """Micro-geometry of a gear's flanks: intended modifications, manufacturing deviations and
 the misalignment of its axis in its meshes, for the loaded tooth contact analysis
-(:mod:`pygear.analysis.contact.ltca`; docs/contact.md).
+(:mod:`pygear.analysis.contact.ltca`; the documentation's contact page).
 
 Every amount is a length [m] along the transverse line of action (normal to the involute
 in the transverse plane), where ISO 1328-1 measures profile and helix deviations.

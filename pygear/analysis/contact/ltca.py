@@ -8,7 +8,7 @@ the slices of one pair are coupled as a Pasternak foundation (Ajmi & Velex 2005)
 the initial separation comes from the gears' micro-geometry, deviations and
 misalignment.  The Fortran module ``ltca`` solves the contact problem with non-negative
 slice loads at each position and load (Conry & Seireg 1973).  Equations, choices and
-validation: docs/contact.md.
+validation: the documentation's contact page.
 
 Results are along the transverse line of action: the transmission error (TE) is the
 approach of the flanks, delta = theta_1 r_b1 - theta_2 r_b2 (the driven gear's lag), the
@@ -150,7 +150,7 @@ def loaded_contact(
         0 (the default) leaves the slices uncoupled (a Winkler foundation, as the
         potential-energy law's slicing and ISO 6336-1's K_Hbeta take the face); the
         coupling is not calibrated and loads the face ends and the contact lines' ends
-        under a varying deflection (docs/contact.md).
+        under a varying deflection (the documentation's contact page).
     hertz : bool
         Include Yang & Lin's linear Hertz compliance (as the potential-energy law does).
     driving_gear : int
