@@ -121,6 +121,21 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--jitter", type=float, default=0.0, help="--tachometer: timing jitter [s] (default 0)"
     )
     analyze.add_argument(
+        "--bearing-envelope",
+        action="store_true",
+        help="bearing diagnostics: pre-whitening, the kurtogram's band, the squared envelope "
+        "spectrum; lists the bearing lines found (BPFO, BPFI, BSF the run file stores, or "
+        "--bpfo/--bpfi) with harmonics, sidebands and SNRs",
+    )
+    analyze.add_argument("--bpfo", type=float, metavar="HZ", help="--bearing-envelope: BPFO [Hz]")
+    analyze.add_argument("--bpfi", type=float, metavar="HZ", help="--bearing-envelope: BPFI [Hz]")
+    analyze.add_argument(
+        "--shaft-frequency",
+        type=float,
+        metavar="HZ",
+        help="--bpfi: shaft rate whose sidebands about BPFI are looked for [Hz]",
+    )
+    analyze.add_argument(
         "--window-revolutions",
         type=float,
         default=1.0,
@@ -167,6 +182,12 @@ def _analyze(args: argparse.Namespace) -> int:
         from .condition import analyze_tsa
 
         return analyze_tsa(args)
+    if args.bearing_envelope:
+        from .bearing import analyze_bearing_envelope
+
+        return analyze_bearing_envelope(args)
+    if args.bpfo is not None or args.bpfi is not None:
+        raise CaseError("--bpfo/--bpfi: ask for the bearing envelope with --bearing-envelope")
     if args.indicators:
         raise CaseError("--indicators: name the gear to average with --tsa GEAR")
     if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):

@@ -21,6 +21,7 @@ from ..model.case_json import case_json
 __all__ = [
     "SPECTRA_DIRECTORY",
     "analysis_references",
+    "bearing_references",
     "stored_references",
     "write_run_signals",
     "acceleration_channels",
@@ -137,13 +138,14 @@ def analysis_references(case: Case, model, run: xr.Dataset) -> xr.Dataset:
     ``natural_frequency`` and ``mode_class`` over ``mode``: the modes of the run's own
     model (mean mesh stiffness); ``mesh_frequency`` and ``mesh_teeth`` over
     ``mesh_stage``: each stage's mesh frequency at the run's equilibrium speeds and
-    the tooth number it counts (:func:`mesh_frequency`).
+    the tooth number it counts (:func:`mesh_frequency`); with rolling bearings in the
+    case, their characteristic frequencies beside them (:func:`bearing_references`).
     """
     from ..analysis.modes.modal import modal_analysis
 
     modal = modal_analysis(model)
     stages = _stage_mesh_frequencies(case, run)
-    return xr.Dataset(
+    references = xr.Dataset(
         {
             "natural_frequency": (
                 ("mode",),
@@ -183,6 +185,23 @@ def analysis_references(case: Case, model, run: xr.Dataset) -> xr.Dataset:
             ),
         },
     )
+    return references.merge(bearing_references(case, run))
+
+
+def bearing_references(case: Case, run: xr.Dataset) -> xr.Dataset:
+    """The characteristic frequencies (FTF, BPFO, BPFI, BSF) of the case's rolling
+    bearings at the run's equilibrium speeds
+    (:func:`pygear.analysis.condition.bearing_kinematics.run_frequencies`); an empty
+    Dataset when the case has none or the run holds no speeds."""
+    from ..analysis.condition.bearing_kinematics import frequency_table, run_frequencies
+    from ..model.rolling_bearing import rolling_bearings_of
+
+    bearings = rolling_bearings_of(case)
+    if not bearings or "equilibrium_speed" not in run:
+        return xr.Dataset()
+    speeds = dict(zip(run.body.values.tolist(), run.equilibrium_speed.values.tolist()))
+    found = run_frequencies(bearings, speeds)
+    return frequency_table(found) if found else xr.Dataset()
 
 
 FILE_KINDS = (

@@ -1,0 +1,112 @@
+"""``pygear analyze RUN.nc --bearing-envelope``: a run file holding a synthetic outer-race
+fault and the bearing frequencies ``pygear run`` stores beside the mesh frequencies."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.signal import lfilter
+
+from pygear.cli import main
+from pygear.model.rolling_bearing import RollingBearing
+from pygear.runs.outputs import bearing_references
+
+RATE, DURATION, SHAFT_RPM = 20000.0, 2.5, 1500.0
+# SKF 6205 geometry (CWRU): BPFO = 3.5848 x the shaft rate = 89.6 Hz at 1500 rpm
+BEARING = RollingBearing("DE", "ball", elements=9, pitch_diameter=1.537 * 0.0254,
+                         element_diameter=0.3126 * 0.0254, location="hss")  # fmt: skip
+
+
+def _signal(fault_hz: float) -> np.ndarray:
+    """Impulses at ``fault_hz`` (1 % jitter) ringing 4 kHz at 5 % damping, plus noise."""
+    rng = np.random.default_rng(7)
+    count = int(RATE * DURATION)
+    times = np.arange(int(DURATION * fault_hz)) / fault_hz
+    times = times + rng.normal(0, 0.01 / fault_hz, times.size)
+    impulses = np.zeros(count)
+    index = np.clip(np.round(times * RATE).astype(int), 0, count - 1)
+    np.add.at(impulses, index, 1.0)
+    omega, zeta, step = 2 * math.pi * 4000.0, 0.05, 1 / RATE
+    r, damped = math.exp(-zeta * omega * step), omega * math.sqrt(1 - zeta**2) * step
+    ringing = lfilter([0, r * math.sin(damped)], [1, -2 * r * math.cos(damped), r * r], impulses)
+    return ringing / np.std(ringing) + 0.5 * rng.normal(size=count)
+
+
+def _run(path: Path, *, stored: bool) -> Path:
+    time = np.arange(int(RATE * DURATION)) / RATE
+    run = xr.Dataset(
+        {
+            "housing_acceleration": ("time", _signal(3.5848 * SHAFT_RPM / 60), {"units": "m/s^2"}),
+            "equilibrium_speed": ("body", [SHAFT_RPM], {"units": "rpm"}),
+        },
+        coords={"time": ("time", time, {"units": "s"}), "body": ("body", ["hss"])},
+        attrs={"t_s": 0.5},
+    )
+    if stored:
+        run = run.merge(bearing_references(SimpleNamespace(rolling_bearings=(BEARING,)), run))
+    run.to_netcdf(path)
+    return path
+
+
+def test_run_file_stores_bearing_frequencies_of_a_case_with_rolling_bearings(tmp_path):
+    path = _run(tmp_path / "run.nc", stored=True)
+    with xr.open_dataset(path) as run:
+        bpfo = float(run.bearing_frequency.sel(bearing="DE", bearing_line="BPFO"))
+        # CWRU's published 3.5848 orders at 25 Hz, to its 5 digits
+        assert bpfo == pytest.approx(3.5848 * 25.0, rel=3e-4)
+        assert run.bearing_frequency.attrs["units"] == "Hz"
+    # a case without rolling bearings adds nothing
+    assert not bearing_references(SimpleNamespace(), xr.Dataset()).data_vars
+
+
+def test_bearing_envelope_lists_the_stored_lines_with_snr(tmp_path, capsys):
+    path = _run(tmp_path / "run.nc", stored=True)
+    assert main(["analyze", str(path), "--bearing-envelope", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    lines = {row["line"]: row for row in result["lines"]}
+    assert set(lines) == {"DE:BPFO", "DE:BPFI", "DE:BSF"}
+    assert lines["DE:BPFO"]["detected"] and lines["DE:BPFO"]["snr_db"] > 10.0
+    found = lines["DE:BPFO"]["harmonics"][0]["found_hz"]
+    assert abs(found - 3.5848 * 25.0) <= result["bin_width_hz"] + 1e-9
+    assert not lines["DE:BPFI"]["detected"] and not lines["DE:BSF"]["detected"]
+    # the band the kurtogram picked holds the 4 kHz resonance
+    assert result["band_hz"][0] <= 4000.0 <= result["band_hz"][1]
+    # the inner-race line's shaft-rate sidebands were looked for
+    assert [s["m"] for s in lines["DE:BPFI"]["sidebands"]] == [-1, 1]
+    assert main(["analyze", str(path), "--bearing-envelope"]) == 0
+    text = capsys.readouterr().out
+    assert "DE:BPFO" in text and "yes" in text
+
+
+def test_given_bpfo_serves_a_file_without_stored_frequencies(tmp_path, capsys):
+    path = _run(tmp_path / "run.nc", stored=False)
+    argv = ["analyze", str(path), "--bearing-envelope", "--bpfo", str(3.5848 * 25.0), "--json"]
+    assert main(argv) == 0
+    rows = json.loads(capsys.readouterr().out)["lines"]
+    assert rows[0]["line"] == "BPFO" and rows[0]["detected"]
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        ([], "stores no bearing frequencies"),
+        (["--bpfo", "-3"], "--bpfo must be a positive frequency in Hz"),
+    ],
+)
+def test_bearing_envelope_refusals_are_one_line_exit_2(tmp_path, capsys, extra, message):
+    path = _run(tmp_path / "run.nc", stored=False)
+    assert main(["analyze", str(path), "--bearing-envelope", *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1
+
+
+def test_bpfo_without_bearing_envelope_is_refused(tmp_path, capsys):
+    path = _run(tmp_path / "run.nc", stored=False)
+    assert main(["analyze", str(path), "--bpfo", "90"]) == 2
+    assert "--bearing-envelope" in capsys.readouterr().err
