@@ -51,6 +51,18 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     campbell.add_argument(
         "--damping", action="store_true", help="include the case's damping (damping ratios)"
     )
+    campbell.add_argument(
+        "--modes",
+        type=int,
+        default=8,
+        metavar="N",
+        help="a rotor or drivetrain case: the N lowest modes at each speed (default 8)",
+    )
+    campbell.add_argument(
+        "--solver",
+        default="auto",
+        help="a rotor or drivetrain case: auto (dense up to 400 DOFs), sparse or dense",
+    )
     campbell.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     campbell.add_argument(
         "--out", type=Path, help="directory of campbell.nc and campbell.png (default out/<case>)"
@@ -160,15 +172,17 @@ def _campbell(args: argparse.Namespace) -> int:
     harmonics = _harmonics(args.harmonics)
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise CaseError(f"--out {str(args.out)!r} is a file: campbell writes into a directory")
+    import numpy as np
+
     from ..model.case import load_case  # NumPy and the model load only when the command runs
 
     case = load_case(args.case)
+    if case.drivetrain is not None:
+        return _rotor_campbell(case, args, np.linspace(start, stop, count))
     if args.scene is not None:
         scene = case.scene(args.scene)
     else:
         scene = next((s for s in case.scenes if "modal" in s.analyses), None)
-
-    import numpy as np
 
     from ..analysis.modes.campbell import campbell_diagram
     from ..assembly.speed_terms import reference_label
@@ -199,6 +213,71 @@ def _campbell(args: argparse.Namespace) -> int:
         print(json_text({**summary, "files": [str(path), str(figure)]}))
         return 0
     _print_table(campbell, summary)
+    print(f"wrote {path} and {figure}")
+    return 0
+
+
+def _rotor_campbell(case, args: argparse.Namespace, speeds) -> int:
+    """A rotor or drivetrain case: the shafts' and discs' gyroscopic terms at their own
+    speed ratios, speeds of the rotor, critical speeds from the 1x crossings."""
+    from ..analysis.modes.sparse_gyroscopic import SOLVERS, rotor_campbell
+    from ..assembly.drivetrain import assemble_drivetrain
+    from ..io import save_figure, write_netcdf
+    from ..plots.rotor import plot_rotor_campbell
+    from ..runs.json_output import json_text
+
+    if args.solver not in SOLVERS:
+        raise CaseError(f"--solver must be one of {', '.join(SOLVERS)} (got {args.solver!r})")
+    if args.modes < 1:
+        raise CaseError(f"--modes must be at least 1 (got {args.modes})")
+    model = assemble_drivetrain(case, dof_set="spatial")
+    campbell = rotor_campbell(model, speeds, args.modes, solver=args.solver)
+    out = args.out or Path("out") / case.name
+    path = write_netcdf(
+        campbell,
+        out / "campbell.nc",
+        input_hash=case.input_hash(),
+        title=f"Campbell diagram of {case.name} over the rotor speed",
+    )
+    drawing = plot_rotor_campbell(campbell)
+    figure = save_figure(drawing, out / "campbell.png", dpi=drawing.dpi, release=True)
+    critical = [
+        {"speed_rpm": float(s), "frequency_hz": float(f), "mode": int(m), "whirl": str(w)}
+        for s, f, m, w in zip(
+            campbell.critical_speed.values,
+            campbell.critical_frequency.values,
+            campbell.critical_mode.values,
+            campbell.critical_whirl.values,
+        )
+    ]
+    if args.json:
+        summary = {
+            "case": case.name,
+            "dofs": model.size,
+            "solver": campbell.attrs["solver"],
+            "speed_ratios": model.speed_ratios,
+            "speeds_rpm": campbell.speed.values.tolist(),
+            "frequencies_hz": campbell.frequency.values.tolist(),
+            "whirl": campbell.whirl.values.astype(str).tolist(),
+            "critical_speeds": critical,
+            "files": [str(path), str(figure)],
+        }
+        print(json_text(summary))
+        return 0
+    print(
+        f"{case.name}: {model.size} DOFs, {campbell.attrs['solver']} solver, rotor speed "
+        f"{speeds[0]:g} to {speeds[-1]:g} rpm ({speeds.size} speeds)"
+    )
+    print(f"{'mode':>4}  {'kind':<10} {'f start [Hz]':>12} {'f stop [Hz]':>12}  whirl at stop")
+    for m in range(campbell.sizes["mode"]):
+        print(
+            f"{m + 1:>4}  {str(campbell.kind.values[-1, m]):<10} "
+            f"{campbell.frequency.values[0, m]:>12.3f} {campbell.frequency.values[-1, m]:>12.3f}"
+            f"  {campbell.whirl.values[-1, m]}"
+        )
+    print(f"{len(critical)} critical speeds (1x crossings):")
+    for c in critical:
+        print(f"  {c['speed_rpm']:>10.1f} rpm  mode {c['mode']:>3}  {c['whirl']:<9}")
     print(f"wrote {path} and {figure}")
     return 0
 

@@ -59,6 +59,13 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         metavar="FREQUENCY",
         help="a drivetrain case: every mode below FREQUENCY (e.g. 3000Hz or 3000)",
     )
+    modal.add_argument(
+        "--speed",
+        type=float,
+        metavar="RPM",
+        help="a rotor or drivetrain case: the modes at this rotor speed with the shafts' "
+        "and discs' gyroscopic terms (forward/backward whirl)",
+    )
 
     matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
     _add_model_options(matrices)
@@ -120,7 +127,16 @@ def _modal(args: argparse.Namespace) -> int:
 
     case = load_case(args.case)
     if case.drivetrain is not None:
+        if args.speed is not None:
+            return _modes_at_speed(case, args)
         return _drivetrain_modal(case, args)
+    if args.speed is not None:
+        from ..errors import CaseError
+
+        raise CaseError(
+            "--speed is for rotor and drivetrain cases; a gearbox's speed-dependent modes: "
+            "pygear campbell"
+        )
     if args.below is not None:
         from ..errors import CaseError
 
@@ -197,6 +213,52 @@ def _drivetrain_modal(case, args: argparse.Namespace) -> int:
     print(f"{'mode':>4}  {'frequency [Hz]':>14}  dominant DOF")
     for m, (f, label) in enumerate(zip(modes.frequencies_hz, modes.dominant), start=1):
         print(f"{m:>4}  {f:>14.3f}  {label}")
+    return 0
+
+
+def _modes_at_speed(case, args: argparse.Namespace) -> int:
+    """A rotor or drivetrain case at ``--speed``: its lowest ``--modes`` modes with the
+    shafts' and discs' gyroscopic terms, their whirl and kind."""
+    from ..analysis.modes.sparse_gyroscopic import rotor_modes
+    from ..assembly.drivetrain import assemble_drivetrain
+    from ..errors import CaseError
+    from ..runs.json_output import json_text
+
+    if args.modes < 1:
+        raise CaseError(f"--modes must be at least 1 (got {args.modes})")
+    if not math.isfinite(args.speed):
+        raise CaseError(f"--speed must be a finite number of rpm (got {args.speed!r})")
+    if args.below is not None or args.out or args.compare_stage:
+        raise CaseError("--below, --out and --compare-stage do not combine with --speed")
+    model = assemble_drivetrain(case, dof_set="spatial")
+    modes = rotor_modes(model, args.speed, args.modes)
+    if args.json:
+        print(
+            json_text(
+                {
+                    "case": case.name,
+                    "speed_rpm": args.speed,
+                    "dofs": model.size,
+                    "solver": modes.attrs["solver"],
+                    "frequencies_hz": modes.frequency.values.tolist(),
+                    "damping_ratios": modes.damping_ratio.values.tolist(),
+                    "whirl": [str(w) for w in modes.whirl.values],
+                    "kind": [str(k) for k in modes.kind.values],
+                }
+            )
+        )
+        return 0
+    print(
+        f"{case.name}: {model.size} DOFs at {args.speed:g} rpm (gyroscopic terms of the "
+        f"shafts and discs), {modes.attrs['solver']} solver, {modes.sizes['mode']} modes"
+    )
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'damping':>8}  {'kind':<10} whirl")
+    for m in range(modes.sizes["mode"]):
+        print(
+            f"{m + 1:>4}  {modes.frequency.values[m]:>14.4f}  "
+            f"{modes.damping_ratio.values[m]:>8.4f}  {modes.kind.values[m]:<10} "
+            f"{modes.whirl.values[m]}"
+        )
     return 0
 
 

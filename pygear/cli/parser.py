@@ -28,6 +28,7 @@ from . import (
     cases,
     condition,
     contact,
+    frf,
     modal,
     rate,
     response,
@@ -38,7 +39,18 @@ from . import (
 __all__ = ["build_parser", "main"]
 
 _FAMILIES = (
-    run, modal, campbell, response, batch, accuracy, condition, contact, rate, cases, show_case
+    run,
+    modal,
+    campbell,
+    frf,
+    response,
+    batch,
+    accuracy,
+    condition,
+    contact,
+    rate,
+    cases,
+    show_case,
 )
 """Command families, in the order their subcommands are listed."""
 

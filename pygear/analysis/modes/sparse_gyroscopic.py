@@ -13,11 +13,16 @@ Sparse solver
     free rigid-body motion (lambda = 0) does not make P singular.
 Dense solver
     :func:`pygear.analysis.modes.gyroscopic.quadratic_modes`: the whole state space.
-    ``auto`` takes it up to :data:`DENSE_LIMIT` DOFs.
+    ``auto`` takes it up to :data:`DENSE_LIMIT` DOFs.  A free rigid-body motion is a
+    double zero eigenvalue, which round-off splits by about sqrt(eps) omega_max: a
+    model whose highest mode is 1e6 times its lowest (near-massless nodes on stiff
+    bearings) loses its lowest modes in that floor; solve it with ``sparse``.
 
-Each mode is one eigenvalue of a conjugate pair (Im lambda > 0); free rigid-body
-motions (|lambda| below :data:`~pygear.analysis.modes.gyroscopic.RIGID_FRACTION` of
-the model's scale) are dropped from the sparse result.
+Each mode is one eigenvalue of a conjugate pair (Im lambda > 0).  Free rigid-body
+motions (lambda = 0) and real eigenvalues (overdamped motions: a rigid rotation with
+mass-proportional damping decays as e^(-alpha t)) have no frequency and are left out
+of both solvers' results; a real eigenvalue > 0 (divergence) is therefore not
+reported here.
 """
 
 from __future__ import annotations
@@ -42,6 +47,14 @@ SOLVERS = ("auto", "sparse", "dense")
 
 RIGID_FRACTION = 1e-6
 """|lambda| below this fraction of the lowest elastic scale is a rigid-body motion."""
+
+
+NULL_SPACE = 1e-12
+"""A singular value of K below this fraction of its largest is a rigid-body motion."""
+
+OVERDAMPED = 1e-9
+"""|Im lambda| at most this fraction of |lambda|: a real eigenvalue, an overdamped
+motion (a damped rigid-body rotation), not a mode with a frequency; left out."""
 
 
 def solve(
@@ -76,8 +89,17 @@ def dense_quadratic_modes(
     mass: sp.spmatrix, stiffness: sp.spmatrix, first_order: sp.spmatrix, modes: int
 ) -> SpeedModes:
     """The lowest ``modes`` elastic modes from the dense state space."""
-    found = quadratic_modes(_dense(mass), _dense(stiffness), _dense(first_order), rigid_count=None)
-    keep = np.flatnonzero(~found.rigid)[:modes]
+    stiffness_dense = _dense(stiffness)
+    # the free rigid-body motions are K's null space (singular values below NULL_SPACE
+    # of the largest), counted from K alone: a model with stiff bearings and light nodes
+    # has elastic modes below the state space's round-off floor for zero
+    singular = np.linalg.svd(stiffness_dense, compute_uv=False)
+    rigid_count = int(np.sum(singular < NULL_SPACE * singular.max(initial=0.0)))
+    found = quadratic_modes(
+        _dense(mass), stiffness_dense, _dense(first_order), rigid_count=rigid_count
+    )
+    oscillating = np.abs(found.eigenvalues.imag) > OVERDAMPED * np.abs(found.eigenvalues)
+    keep = np.flatnonzero(~found.rigid & oscillating)[:modes]
     return SpeedModes(
         found.eigenvalues[keep], found.shapes[:, keep], found.rigid[keep], found.scale
     )
@@ -112,9 +134,7 @@ def sparse_quadratic_modes(
     eigenvalues = sigma + 1.0 / values
     shapes = vectors[:n]
     rigid = np.abs(eigenvalues) < RIGID_FRACTION * scale
-    upper = (eigenvalues.imag > 1e-9 * np.abs(eigenvalues)) & ~rigid
-    real = (np.abs(eigenvalues.imag) <= 1e-9 * np.abs(eigenvalues)) & ~rigid
-    picked = np.concatenate([np.flatnonzero(upper), np.flatnonzero(real)])
+    picked = np.flatnonzero((eigenvalues.imag > OVERDAMPED * np.abs(eigenvalues)) & ~rigid)
     order = np.lexsort((eigenvalues[picked].real, np.abs(eigenvalues[picked].imag)))
     picked = picked[order][:modes]
     if picked.size < modes:
@@ -263,3 +283,103 @@ def _solver_name(size: int, solver: str) -> str:
     if solver == "auto":
         return "dense" if size <= DENSE_LIMIT else "sparse"
     return solver
+
+
+# --------------------------------------------------------------------------- Campbell
+
+
+def rotor_campbell(model, speeds_rpm, modes: int = 8, *, solver: str = "auto"):
+    """Campbell diagram of a drivetrain or rotor model: the ``modes`` lowest modes at
+    every rotor speed, tracked by their shapes, and the critical speeds where a lateral
+    mode crosses a shaft's 1x line (f = ratio |n| / 60).
+
+    Each shaft's and disc's gyroscopic matrix enters at its own speed ratio
+    (``model.gyroscopic``), table bearings at their shafts' speeds.  A gearbox block has
+    no gyroscopic term here (its members' are in the gearbox's own Campbell diagram).
+
+    Returns
+    -------
+    xarray.Dataset
+        Over (``speed``, ``mode``): ``frequency`` [Hz], ``damping_ratio``, ``whirl``,
+        ``kind``, ``tracking_mac``; over ``critical``: ``critical_speed`` [rpm],
+        ``critical_frequency`` [Hz], ``critical_mode``, ``critical_whirl``,
+        ``critical_shaft`` (the 1x line's shafts).
+    """
+    import xarray as xr
+
+    from .campbell import check_speeds
+    from .mode_tracking import ModeTracker
+
+    speeds = check_speeds(speeds_rpm)
+    dense_mass = model.mass.toarray()
+    tracker = ModeTracker(lambda s: modes_at_speed(model, s, modes, solver=solver), dense_mass)
+    tracking = tracker.track(speeds)
+    n = tracking.modes[0].eigenvalues.size
+    frequency = np.array([m.frequencies for m in tracking.modes])
+    damping = np.array([m.damping_ratios for m in tracking.modes])
+    whirl = np.empty((speeds.size, n), dtype=object)
+    kind = np.empty((speeds.size, n), dtype=object)
+    for k, (speed, found) in enumerate(zip(speeds, tracking.modes)):
+        _, whirl[k], kind[k] = whirl_and_kind(model, found, float(speed))
+    lines: dict[float, list[str]] = {}
+    for shaft, ratio in model.speed_ratios.items():
+        lines.setdefault(round(abs(ratio), 12), []).append(shaft)
+    rows = []
+    for ratio, shafts in sorted(lines.items()):
+        line = ratio * np.abs(speeds) / 60.0
+        for m in range(n):
+            difference = frequency[:, m] - line
+            for k in range(speeds.size - 1):
+                a, b = difference[k], difference[k + 1]
+                if kind[k, m] != "lateral" or not (a == 0 or a * b < 0):
+                    continue
+                weight = 0.0 if a == 0 else a / (a - b)
+                speed = speeds[k] + weight * (speeds[k + 1] - speeds[k])
+                near = k if weight < 0.5 else k + 1
+                rows.append(
+                    (speed, ratio * abs(speed) / 60.0, m + 1, whirl[near, m], " ".join(shafts))
+                )
+    rows.sort(key=lambda r: (r[0], r[2]))
+    columns = list(zip(*rows)) if rows else [[] for _ in range(5)]
+    dims = ("speed", "mode")
+
+    def var(dims, values, units, long_name):
+        return dims, values, {"units": units, "long_name": long_name}
+
+    return xr.Dataset(
+        {
+            "frequency": var(dims, frequency, "Hz", "damped natural frequency of the tracked mode"),
+            "damping_ratio": var(dims, damping, "1", "-Re(lambda)/|lambda|"),
+            "whirl": var(dims, whirl, "1", "whirl direction seen from the ground"),
+            "kind": var(dims, kind, "1", "lateral, axial or torsional"),
+            "tracking_mac": var(dims, tracking.mac, "1", "MAC with the previous speed's mode"),
+            "critical_speed": var(
+                ("critical",), np.array(columns[0], float), "rpm", "crossing with a 1x line"
+            ),
+            "critical_frequency": var(
+                ("critical",), np.array(columns[1], float), "Hz", "frequency at the crossing"
+            ),
+            "critical_mode": var(
+                ("critical",), np.array(columns[2], np.int64), "1", "tracked mode"
+            ),
+            "critical_whirl": var(
+                ("critical",), np.array(columns[3], object), "1", "whirl of the mode there"
+            ),
+            "critical_shaft": var(
+                ("critical",), np.array(columns[4], object), "1", "shafts of the 1x line"
+            ),
+        },
+        coords={
+            "speed": var(("speed",), speeds, "rpm", "rotor speed"),
+            "mode": var(("mode",), np.arange(1, n + 1), "1", "tracked mode number"),
+        },
+        attrs={
+            "case": model.case_name,
+            "dofs": model.size,
+            "solver": _solver_name(model.size, solver),
+            "speed_ratios": ", ".join(f"{k}: {v:.6g}" for k, v in model.speed_ratios.items()),
+            "gyroscopic": "every shaft element and disc at its shaft's speed ratio "
+            "(Friswell et al. 2010, ch. 5); no gearbox member terms",
+            "tracking_refinements": tracking.refinements,
+        },
+    )

@@ -111,7 +111,10 @@ def unbalance_response(
     ratios = set()
     force = np.zeros(model.size, complex)
     for item in unbalances:
-        disc = drivetrain.disc(item.disc)
+        try:
+            disc = drivetrain.disc(item.disc)
+        except CaseError as error:
+            raise CaseError(f"--unbalance: {error}") from None
         if not (math.isfinite(item.moment) and item.moment >= 0):
             raise CaseError(f"--unbalance {item.disc}: ME must be >= 0 kg m (got {item.moment!r})")
         shaft = drivetrain.shaft(disc.shaft)
