@@ -11,11 +11,14 @@ import pytest
 import xarray as xr
 
 from pygear import Gear
+from pygear.analysis.contact.ltca import loaded_contact
 from pygear.analysis.contact.ltca_geometry import lead_gap, profile_gap
+from pygear.assembly.tooth_stiffness import ToothBody
 from pygear.cli.parser import main
 from pygear.errors import CaseError
 from pygear.model import gear_geometry as geo
 from pygear.model.micro_geometry import (
+    Deviations,
     EndRelief,
     Misalignment,
     Modifications,
@@ -42,6 +45,30 @@ def test_tip_relief_grows_from_its_start_to_the_amount_at_the_tip(gear, shape, m
     rolls = np.append(rolls, rolls.mean())
     gap = profile_gap(gear, mods, rolls)
     np.testing.assert_allclose(gap, [0.0, 10e-6, middle * 10e-6], atol=1e-18)
+
+
+def test_root_relief_and_profile_slope_deviation():
+    """Root relief C_f at the root form circle, 0 at its start; a profile slope deviation
+    f_Halpha adds f/2 of material at the tip and removes f/2 at the root form circle
+    (ISO 1328-1: positive is material added towards the tip)."""
+    r_b = geo.base_radius(GEAR)
+    form, tip = geo.root_form_radius(GEAR), geo.tip_radius(GEAR)
+    start = 0.5 * (form + tip)
+    mods = Modifications(root_relief=ProfileRelief(6e-6, start_diameter=2 * start),
+                         deviations=Deviations(profile_slope=4e-6))  # fmt: skip
+    rolls = np.array([_roll(GEAR, max(form, r_b)), _roll(GEAR, start), _roll(GEAR, tip)])
+    gap = profile_gap(GEAR, mods, rolls)
+    slope_at_start = -4e-6 * ((rolls[1] - rolls[0]) / (rolls[2] - rolls[0]) - 0.5)
+    np.testing.assert_allclose(gap, [6e-6 + 2e-6, slope_at_start, -2e-6], atol=1e-18)
+
+
+def test_pitch_deviations_need_one_per_tooth():
+    mesh = geo.MeshGeometry(GEAR, geo.GearGeometry(teeth=48, normal_module=3.2e-3,
+                                                   face_width=16e-3))  # fmt: skip
+    bodies = (ToothBody(206e9, 0.3, 10e-3), ToothBody(206e9, 0.3, 30e-3))
+    mods = (Modifications(deviations=Deviations(pitch=(1e-6, 2e-6))), None)
+    with pytest.raises(CaseError, match=r"deviations.pitch must hold one deviation per tooth"):
+        loaded_contact(mesh, bodies, 1000.0, modifications=mods)
 
 
 def test_lead_modifications_at_the_face_ends_and_middle():

@@ -188,8 +188,14 @@ def loaded_contact(
         raise CaseError(
             f"{path}.modifications must hold one entry per gear (got {modifications!r})"
         )
-    for index, mod in enumerate(modifications):
+    for index, (mod, gear) in enumerate(zip(modifications, (mesh.gear1, mesh.gear2))):
         check_modifications(f"{path}.modifications[{index}]", mod)
+        pitch = mod.deviations.pitch if mod is not None and mod.deviations else ()
+        if pitch and len(pitch) != gear.teeth:
+            raise CaseError(
+                f"{path}.modifications[{index}].deviations.pitch must hold one deviation per "
+                f"tooth ({gear.teeth}), or none (got {len(pitch)})"
+            )
     if not (is_finite_number(coupling_length) and 0 <= coupling_length < 10):
         raise CaseError(
             f"{path}.coupling_length must be a length in [0, 10) m (got {coupling_length!r})"
