@@ -192,10 +192,16 @@ class StreamedFile:
         self._pending.append((first, columns))
         self._pending_samples += count
         if self._pending_samples >= self.block_samples:
-            self.flush()
+            self._append(aligned=True)
 
     def flush(self) -> None:
-        """Append every queued sample to the file."""
+        """Append every queued sample to the file (before a checkpoint, at the end)."""
+        self._append(aligned=False)
+
+    def _append(self, aligned: bool) -> None:
+        """Append the queued samples; ``aligned``: only up to the last whole HDF5 chunk
+        along time, the rest kept queued (a chunk written in pieces is compressed again
+        with every piece)."""
         if not self._pending:
             return
         first = self._pending[0][0]
@@ -204,9 +210,20 @@ class StreamedFile:
             name: np.concatenate([columns[name] for _, columns in self._pending], axis=-1)
             for name in names
         }
-        io.append_streamed(self.partial, first, joined)
-        self.length = max(self.length, first + self._pending_samples)
-        self._pending, self._pending_samples = [], 0
+        end = first + self._pending_samples
+        if aligned:
+            end = max(first, end - end % self.time_chunk)
+        count = end - first
+        if count:
+            io.append_streamed(
+                self.partial, first, {name: values[..., :count] for name, values in joined.items()}
+            )
+        self.length = max(self.length, end)
+        rest = self._pending_samples - count
+        self._pending = (
+            [(end, {n: v[..., count:].copy() for n, v in joined.items()})] if rest else []
+        )
+        self._pending_samples = rest
 
     def state(self) -> dict:
         """What the sink carries from block to block, as arrays for a checkpoint."""
