@@ -165,6 +165,8 @@ def test_contact_of_a_helical_mesh_writes_its_files(tmp_path, capsys):
         (["--mesh", "sun-planet1"], "give exactly one of --torque T and --torques A:B:N"),
         (["--mesh", "sun-planet1", "--torque", "-3"], "--torque values must be positive"),
         (["--mesh", "sun-planet1", "--torques", "1:2"], "--torques must be A:B:N"),
+        (["--mesh", "sun-planet1", "--torque", "1", "--slices", "0"],
+         "--slices must be a whole number in [1, 400]"),
     ],
 )  # fmt: skip
 def test_contact_bad_input_is_one_line(argv, message, capsys):

@@ -56,10 +56,16 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
 
 def _contact(args: argparse.Namespace) -> int:
     from ..analysis.contact.ltca_case import case_loaded_contact
+    from ..errors import CaseError
     from ..model.case import load_case
     from ..runs.contact_outputs import contact_json, parse_torques, write_contact_outputs
     from ..runs.json_output import json_text
 
+    for option, value, low, high in (("--slices", args.slices, 1, 400),
+                                     ("--positions", args.positions, 2, 2000),
+                                     ("--cycles", args.cycles, 1, 10_000)):  # fmt: skip
+        if not low <= value <= high:
+            raise CaseError(f"{option} must be a whole number in [{low}, {high}] (got {value})")
     torques = parse_torques(args.torque, args.torques)
     case = load_case(args.case)
     if args.scene is not None:

@@ -30,7 +30,7 @@ from ...model.case import Case
 from ...model.gear_geometry import MeshGeometry
 from ...model.gearbox import ParallelStage
 from ...model.geometry_inputs import parallel_mesh_geometry, planetary_mesh_geometry
-from .ltca import contact_dataset, loaded_contact, solve_slices
+from .ltca import _count, contact_dataset, loaded_contact, solve_slices
 from .ltca_geometry import slice_grid
 
 __all__ = ["CaseMesh", "case_loaded_contact", "case_mesh", "case_mesh_names"]
@@ -136,6 +136,9 @@ def case_loaded_contact(
         :func:`.ltca.loaded_contact`'s Dataset with a ``torque`` coordinate along
         ``force`` and the case and mesh names in its attributes.
     """
+    _count(f"{name}.n_slice", n_slice, 1, 400)
+    _count(f"{name}.n_position", n_position, 2, 2000)
+    _count(f"{name}.cycles", cycles, 1, 10_000)
     case.validate()
     mesh = case_mesh(case, name)
     forces = _forces("--torque", torques, mesh.torque_radius)
