@@ -135,9 +135,7 @@ def test_varying_compliance_line_is_cage_rate_times_z():
     inner = 25.0
     bpfo = bearing_frequencies(bearing, inner).lines["BPFO"]
     rate, duration = 4000.0, 4.0
-    history = defect_excitation(
-        bearing, 3e4, inner_hz=inner, duration=duration, sample_rate=rate
-    )
+    history = defect_excitation(bearing, 3e4, inner_hz=inner, duration=duration, sample_rate=rate)
     stiffness = history.stiffness_xx.values
     spectrum = np.abs(np.fft.rfft(stiffness - stiffness.mean()))
     frequency = np.fft.rfftfreq(stiffness.size, 1 / rate)
@@ -180,3 +178,23 @@ def test_element_law_broadcasts_over_instants():
     assert loads.shape == (3, 9) and force.shape == (3, 2) and stiffness.shape == (3, 2, 2)
     single = element_loads(bearing, 1e-6, 0.0, angles[1])[1]
     assert np.allclose(force[1], single, rtol=1e-14)
+
+
+def test_element_defect_strikes_at_twice_bsf_inside_the_load_zone_once_per_cage_turn():
+    bearing = ball(elements=9, pitch_diameter=0.039, element_diameter=0.0079)
+    inner, rate = 30.0, 20000.0
+    lines = bearing_frequencies(bearing, inner).lines
+    defect = BearingDefect("element", width=0.5e-3, depth=10e-6)
+    kwargs = dict(inner_hz=inner, duration=1.0, sample_rate=rate)
+    drop = (
+        defect_excitation(bearing, 2e3, **kwargs).blocked_force_x.values
+        - defect_excitation(bearing, 2e3, defects=(defect,), **kwargs).blocked_force_x.values
+    )
+    starts = np.flatnonzero(np.diff((drop > 1e-3 * 2e3).astype(int)) == 1) / rate
+    gaps = np.diff(starts)
+    # the defect meets the outer and the inner race once each per spin turn: 1 / (2 BSF)
+    # apart (to a sample) while the element is loaded; the longer gaps are the unloaded
+    # half of the cage's turn: one per cage turn, 11.96 in the 1 s record (FTF)
+    short = gaps[gaps < 0.25 / lines["FTF"]]
+    assert np.allclose(short, 1 / (2 * lines["BSF"]), atol=1.01 / rate)
+    assert np.count_nonzero(gaps >= 0.25 / lines["FTF"]) in (11, 12)

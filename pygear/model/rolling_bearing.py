@@ -56,15 +56,21 @@ smooth dent, depth ``h (1 + cos(2 pi s / w)) / 2`` over its width ``w``."""
 
 BEARING_PLAUSIBLE: dict[str, PlausibleRange] = {
     "pitch_diameter": PlausibleRange(
-        2e-3, 5.0, "m", "miniature bearings 3 mm to slewing rings ~4 m (NREL 5 MW planet "
-        "bearing 0.5 m); a value in mm typed as m is 1000 times too large"
+        2e-3,
+        5.0,
+        "m",
+        "miniature bearings 3 mm to slewing rings ~4 m (NREL 5 MW planet "
+        "bearing 0.5 m); a value in mm typed as m is 1000 times too large",
     ),
     "element_ratio": PlausibleRange(
         0.05, 0.45, "-", "d / D of catalogue bearings 0.1 .. 0.35 (SKF 6205: 0.203)"
     ),
     "clearance_ratio": PlausibleRange(
-        0.0, 5e-3, "-", "|P_d| / D: ISO 5753 radial clearances are 1e-4 .. 2e-3 of the "
-        "pitch diameter; above 5e-3 a worn-out bearing or a unit mistake"
+        0.0,
+        5e-3,
+        "-",
+        "|P_d| / D: ISO 5753 radial clearances are 1e-4 .. 2e-3 of the "
+        "pitch diameter; above 5e-3 a worn-out bearing or a unit mistake",
     ),
     "elements": PlausibleRange(4, 100, "-", "catalogue bearings hold 6 .. 60 elements"),
 }
@@ -172,7 +178,8 @@ class RollingBearing:
     def gamma(self) -> float:
         """gamma = d cos(alpha) / D."""
         return (
-            self.element_diameter * math.cos(math.radians(self.contact_angle_deg))
+            self.element_diameter
+            * math.cos(math.radians(self.contact_angle_deg))
             / self.pitch_diameter
         )
 

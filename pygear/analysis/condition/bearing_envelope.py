@@ -238,10 +238,14 @@ def detect_lines(
     return xr.Dataset(
         {
             "expected_frequency": (
-                ("line", "harmonic", "sideband"), expected, {**hz, "long_name": "expected"}
+                ("line", "harmonic", "sideband"),
+                expected,
+                {**hz, "long_name": "expected"},
             ),
             "found_frequency": (
-                ("line", "harmonic", "sideband"), found, {**hz, "long_name": "largest bin near it"}
+                ("line", "harmonic", "sideband"),
+                found,
+                {**hz, "long_name": "largest bin near it"},
             ),
             "amplitude": (
                 ("line", "harmonic", "sideband"),
@@ -264,7 +268,9 @@ def detect_lines(
                 {"units": "1", "long_name": "fundamental and another harmonic found"},
             ),
             "snr_fundamental": (
-                ("line",), snr[:, 0, centre], {"units": "dB", "long_name": "SNR of the line"}
+                ("line",),
+                snr[:, 0, centre],
+                {"units": "dB", "long_name": "SNR of the line"},
             ),
         },
         coords={

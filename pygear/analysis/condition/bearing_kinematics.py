@@ -106,8 +106,10 @@ def bearing_frequencies(
         "FTF": ftf,
         "BPFO": z * ftf,
         "BPFI": z * abs(inner_hz - cage),
-        "BSF": bearing.pitch_diameter / (2.0 * bearing.element_diameter)
-        * relative * (1.0 - gamma**2),
+        "BSF": bearing.pitch_diameter
+        / (2.0 * bearing.element_diameter)
+        * relative
+        * (1.0 - gamma**2),
     }
     modulation = {
         "FTF": abs(cage - load_frame_hz),
@@ -129,9 +131,9 @@ def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
     lines = list(BEARING_LINES)
     shape = (len(found), len(lines))
     frequency = np.array([[f.lines[k] for k in lines] for f in found], dtype=float).reshape(shape)
-    modulation = np.array(
-        [[f.modulation[k] for k in lines] for f in found], dtype=float
-    ).reshape(shape)
+    modulation = np.array([[f.modulation[k] for k in lines] for f in found], dtype=float).reshape(
+        shape
+    )
     return xr.Dataset(
         {
             "bearing_frequency": (

@@ -515,8 +515,10 @@ def defect_excitation(
     rates = {
         "inner": inner_hz - load_frame_hz,
         "outer": outer_hz - load_frame_hz,
-        "spin": bearing.pitch_diameter / (2.0 * bearing.element_diameter)
-        * (inner_hz - outer_hz) * (1.0 - gamma**2),
+        "spin": bearing.pitch_diameter
+        / (2.0 * bearing.element_diameter)
+        * (inner_hz - outer_hz)
+        * (1.0 - gamma**2),
     }
     time = np.arange(count) / float(sample_rate)
     angles = _element_angles(
