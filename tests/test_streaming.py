@@ -253,3 +253,29 @@ def test_peak_memory_does_not_grow_with_the_run_length(tmp_path):
     whole = [_peak_rss_mib(tmp_path, d, False) for d in (short, long)]
     assert streamed[1] - streamed[0] < 15.0, streamed
     assert whole[1] - whole[0] > 40.0, whole  # the measurement can tell
+
+
+def test_a_run_stopped_while_its_end_is_written_starts_over_on_resume(study, tmp_path, monkeypatch):
+    """Stopped after the last step, while the file's end is written (its noise is added in
+    place): the partial file is marked and not continued; --resume runs the scene again
+    and gives the whole-record file."""
+    scene = _short(study, "runup", 0.3, mean_window=0.1)
+    write_transient(study, scene, tmp_path / "whole", figure=False, stream=False)
+    out, checkpoint = tmp_path / "out", tmp_path / "out" / "state.npz"
+
+    def stopped(self):
+        raise RuntimeError("stopped while finishing")
+
+    monkeypatch.setattr(streaming.StreamedFile, "_add_noise", stopped)
+    with pytest.raises(RuntimeError, match="stopped while finishing"):
+        write_transient(study, scene, out, figure=False, stream=True, checkpoint=checkpoint)
+    monkeypatch.undo()
+    assert not (out / "runup.nc").exists() and checkpoint.is_file()
+    with xr.open_dataset(out / ".runup.nc.stream.part", decode_times=False) as partial:
+        assert int(partial.attrs["complete"]) == 0 and partial.attrs["stream_finishing"] == 1
+    with pytest.warns(UserWarning, match="stopped while its end was written"):
+        write_transient(
+            study, scene, out, figure=False, stream=True, checkpoint=checkpoint, resume=checkpoint
+        )
+    assert sorted(p.name for p in out.iterdir()) == ["runup.nc"]
+    _assert_same_file(out / "runup.nc", tmp_path / "whole" / "runup.nc")

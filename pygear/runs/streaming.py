@@ -75,6 +75,11 @@ IDENTITY = "stream_identity"
 """Attribute of a partial streamed file: the run it belongs to (removed once whole)."""
 
 
+FINISHING = "stream_finishing"
+"""Attribute of a partial file whose end is being written (noise added in place, end
+variables appended): such a file is not continued, the run starts over."""
+
+
 def partial_path(target: Path) -> Path:
     """The hidden name a streamed file grows under beside ``target``."""
     target = Path(target)
@@ -111,6 +116,8 @@ def usable_partial(partial: Path, identity: str, written: int) -> str:
                 return f"{partial} belongs to another run"
             if int(attrs.get(io.COMPLETE, 1)) != 0:
                 return f"{partial} is not a partial file"
+            if FINISHING in attrs:  # its noise or end variables may be half written
+                return f"{partial} was stopped while its end was written"
             length = len(handle.dimensions["time"])
     except (OSError, KeyError, RuntimeError) as error:
         return f"{partial} cannot be read ({error})"
@@ -265,6 +272,8 @@ class StreamedFile:
         import xarray as xr
 
         self.flush()
+        with netCDF4.Dataset(self.partial, "a") as handle:  # from here on not resumable
+            handle.setncattr(FINISHING, 1)
         self._add_noise()
         tail = dataset_tail
         for consumer in self.consumers:
@@ -275,8 +284,9 @@ class StreamedFile:
             if variable.dtype.kind in "OUS":
                 encoding.setdefault(name, {}).update({"dtype": "S1", "_FillValue": None})
         with netCDF4.Dataset(self.partial, "a") as handle:
-            if IDENTITY in handle.ncattrs():
-                handle.delncattr(IDENTITY)
+            for name in (IDENTITY, FINISHING):
+                if name in handle.ncattrs():
+                    handle.delncattr(name)
         return io.finish_streamed(self.partial, self.target, tail, attrs, encoding)
 
     def discard(self) -> None:
