@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pygear.analysis.contact.ltca import loaded_contact, solve_slices
+from pygear.analysis.contact.ltca import loaded_contact, solve_slices, te_harmonics
 from pygear.analysis.contact.ltca_geometry import contact_rolls
 from pygear.assembly.tooth_stiffness import ToothBody, mesh_stiffness
 from pygear.errors import CaseError
@@ -271,3 +271,12 @@ def test_bad_input_names_the_parameter(kwargs, message):
         loaded_contact(SPUR, BODIES, force, **arguments)
     assert message in str(error.value)
     assert "\n" not in str(error.value)
+
+
+def test_te_harmonics_are_one_sided_amplitudes_of_mesh_orders():
+    """A TE of 1 um at mesh order 2 and 0.5 um at order 3, over 3 mesh cycles of 20
+    positions each: the amplitudes come back at orders 2 and 3 (exact for a sampled
+    sinusoid below the Nyquist order)."""
+    s = np.arange(60) / 20
+    te = 5e-6 + 1e-6 * np.cos(2 * np.pi * 2 * s + 0.3) + 0.5e-6 * np.sin(2 * np.pi * 3 * s)
+    np.testing.assert_allclose(te_harmonics(te, 3, 4), [0.0, 1e-6, 0.5e-6, 0.0], atol=1e-18)
