@@ -44,7 +44,7 @@ import scipy.sparse as sp
 
 from ..errors import CaseError
 from ..linalg import generalized_eigh
-from ..model.case import Case, check_choice
+from ..model.case import FORMULATIONS, Case, check_choice
 from ..model.drivetrain import Drivetrain, Shaft
 from ..model.scene_settings import scene_settings
 from .matrices import Model, assemble
@@ -68,6 +68,7 @@ __all__ = [
     "assemble_drivetrain",
     "bearing_tables",
     "build_structure",
+    "drivetrain_formulation",
     "node_number",
     "shaft_speed_ratios",
 ]
@@ -204,6 +205,7 @@ def assemble_drivetrain(
     scene: Scene | SceneSettings | None = None,
     *,
     dof_set: str | None = None,
+    formulation: str | None = None,
     gearbox_model: Model | None = None,
 ) -> DrivetrainModel:
     """Assemble the case's drivetrain for a scene.
@@ -216,6 +218,11 @@ def assemble_drivetrain(
         Its DOF set (``spatial`` or ``torsional``) and formulation apply.
     dof_set : str, optional
         Overrides the scene's DOF set; ``spatial`` when neither gives one.
+    formulation : str, optional
+        The gearbox's formulation, overriding the scene's and the case's: ``improved``
+        or ``consistent`` (their carrier, ring and sun are in the inertial frame, as
+        the shafts are); ``lin-parker``, a stage in its carrier's rotating frame, is
+        refused.
     gearbox_model : Model, optional
         The gearbox block to use instead of assembling the case's gearbox (a model of
         the same gearbox with the DOF set's DOFs: a test's rigid or scaled gearbox).
@@ -228,7 +235,8 @@ def assemble_drivetrain(
     check_choice("dof_set", dof_set, DRIVETRAIN_DOF_SETS)
     if drivetrain.gearbox is None:
         return _rotor_model(case.name, drivetrain, dof_set)
-    gearbox = gearbox_model or assemble(case, settings, dof_set=dof_set)
+    formulation = drivetrain_formulation(case, settings, formulation)
+    gearbox = gearbox_model or assemble(case, settings, formulation=formulation, dof_set=dof_set)
     ratios = shaft_speed_ratios(case)
     structure, end_nodes = build_structure(drivetrain, ratios)
     matrices = structure.assemble()
@@ -262,6 +270,37 @@ def _rotor_model(name: str, drivetrain: Drivetrain, dof_set: str) -> DrivetrainM
         speed_ratios=ratios,
         bearing_tables=bearing_tables(drivetrain, ratios) if dof_set == "spatial" else [],
     )
+
+
+def drivetrain_formulation(
+    case: Case,
+    scene: Scene | SceneSettings | None = None,
+    formulation: str | None = None,
+    parameter: str = "formulation",
+) -> str:
+    """The formulation of a drivetrain's gearbox: ``formulation``, else the scene's,
+    else the case's.
+
+    Raises
+    ------
+    CaseError
+        Naming ``parameter`` (or the scene's setting) for ``lin-parker``: a stage in
+        its carrier's rotating frame, whose members cannot share the shafts' inertial
+        DOFs.
+    """
+    settings = scene_settings(scene)
+    chosen = formulation
+    if chosen is None and settings is not None and settings.formulation is not None:
+        chosen, parameter = settings.formulation, f"scenes.{settings.name}.formulation"
+    chosen = chosen or case.formulation
+    check_choice(parameter, chosen, FORMULATIONS)
+    if chosen == "lin-parker":
+        raise CaseError(
+            f"{parameter} 'lin-parker' describes a stage in its carrier's rotating frame, "
+            "which a drivetrain's shafts cannot join; a drivetrain's gearbox needs "
+            "'improved' or 'consistent'"
+        )
+    return chosen
 
 
 def build_structure(
