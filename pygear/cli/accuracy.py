@@ -84,9 +84,11 @@ def _accuracy(args: argparse.Namespace) -> int:
     from ..model.case import load_case
     from ..runs.accuracy import accuracy_study
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_out_dir
     from ..runs.progress import ProgressBar
 
     tolerance = parse_tolerance(args.tolerance)
+    check_out_dir("--out", args.out, "accuracy")
     case = load_case(args.case)
     if args.scene:
         scene = case.scene(args.scene)

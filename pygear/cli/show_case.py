@@ -24,7 +24,7 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "parameter with its default, the values the gear geometry fills in and the "
         "properties derived from them.  The JSON is what output files store as case_json.",
     )
-    show.add_argument("case", help="case name or case directory")
+    show.add_argument("case", metavar="CASE", help="case directory or case name under cases/")
     show.add_argument(
         "--scene", help="apply this scene's parameter changes first (as `pygear run` does)"
     )

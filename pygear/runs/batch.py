@@ -21,6 +21,7 @@ import pandas as pd
 from ..errors import CaseError
 from ..io import atomic_path
 from ..model.case import find_case_dir, load_case
+from .plan_checks import check_drivetrain_memory, check_out_dir
 from .progress import ProgressBar
 from .scene_checks import check_scenes
 from .scene_runner import SCENE_ANALYSES, RunOptions, run_scene
@@ -105,6 +106,7 @@ def run_scene_task(case_dir: str, scene_name: str, out_dir: str, figures: bool =
     try:
         case = load_case(case_dir)
         scene = case.scene(scene_name)
+        check_drivetrain_memory(case, dense=True, dof_set=scene.dof_set)  # before assembling
         check_scenes(case, [scene], out=out_dir)  # probe targets, memory, disk: before any work
         row["analyses"] = ",".join(scene.analyses)
         outcome = run_scene(case, scene, out_dir, RunOptions(figures=figures))
@@ -116,7 +118,7 @@ def run_scene_task(case_dir: str, scene_name: str, out_dir: str, figures: bool =
             dofs=summary["dofs"],
             files=summary["files"],
             lowest_hz=min(frequencies) if frequencies else math.nan,
-            t_s=summary["t_s"] if summary.get("t_s") is not None else math.nan,
+            t_s=_settling_instant(summary.get("t_s")),
         )
         unsupported = summary.get("unsupported", [])
         if unsupported:
@@ -132,6 +134,14 @@ def run_scene_task(case_dir: str, scene_name: str, out_dir: str, figures: bool =
         row["error"] = str(error) if isinstance(error, CaseError) else repr(error)
     row["wall_s"] = time.perf_counter() - started
     return row
+
+
+def _settling_instant(t_s: float | None) -> float:
+    """The run's settling instant [s] to the nanosecond: a steady scene settles at its
+    start, which the time grid's round-off puts at 1e-17 s or so; NaN when none."""
+    if t_s is None or not math.isfinite(t_s):
+        return math.nan
+    return round(float(t_s), 9) + 0.0  # + 0.0: no "-0"
 
 
 def run_batch(
@@ -171,8 +181,7 @@ def run_batch(
 
     validate_cluster_options(workers, scheduler)
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise CaseError(f"--out {str(out)!r} is a file: a batch writes into a directory")
+    check_out_dir("--out", out, "a batch")
     rows: list[dict] = []
     tasks: list[tuple[str, str, str]] = []
     directories = find_case_dirs(paths)
