@@ -164,7 +164,12 @@ def jobqueue_cluster(kind: str, options: Mapping[str, Any]):
             signal.signal(signal.SIGINT, handler)
     cluster_class = getattr(jobqueue, CLUSTER_KINDS[kind])
     cores = options.get("cores", 1)
-    kwargs = {"cores": cores, "processes": cores, "memory": options.get("memory", DEFAULT_MEMORY)}
+    kwargs = {
+        "cores": cores,
+        "processes": cores,
+        "memory": options.get("memory", DEFAULT_MEMORY),
+        "scheduler_options": {"dashboard": False, "dashboard_address": ":0"},  # no 8787 clash
+    }
     for name in ("queue", "walltime"):
         if options.get(name) is not None:
             kwargs[name] = options[name]
@@ -232,9 +237,30 @@ def _start_fork_server() -> bool:
     from multiprocessing import forkserver
 
     if _helper_pids()["multiprocessing.forkserver"] is None:
+        from multiprocessing import resource_tracker
+
         forkserver.set_forkserver_preload(list(WORKER_MODULES))
-        forkserver.ensure_running()  # returns at once; the server imports on its own
+        # the tracker first: starting it unblocks SIGINT, which the server must inherit
+        resource_tracker.ensure_running()
+        with _sigint_blocked():
+            forkserver.ensure_running()  # returns at once; the server imports on its own
     return True
+
+
+@contextlib.contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """SIGINT blocked in this thread while the fork server starts: the server, and every
+    worker it forks, inherit the blocked signal, so a Ctrl-C at the terminal (sent to the
+    whole process group) reaches this process alone, which closes the cluster in order
+    (:func:`dask_client`) instead of every worker dying with its own traceback."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
 @contextlib.contextmanager
@@ -296,36 +322,77 @@ def dask_client(
     """
     options = validate_cluster_options(workers, scheduler, cluster, cluster_options)
     distributed = _distributed()
-    started = None
+    started = client = None
     helpers = _helper_pids()
     with contextlib.ExitStack() as stack:
-        if scheduler is not None:
-            target = scheduler
-        elif cluster is not None:
-            started = target = jobqueue_cluster(cluster, options)
-            if options.get("jobs"):
-                started.scale(jobs=options["jobs"])
-            else:
-                started.scale(n=workers)
-        else:
-            if processes:
-                stack.callback(_stop_helpers, helpers)  # runs last: after the cluster closed
-                stack.enter_context(_forked_workers())
-            started = target = distributed.LocalCluster(
-                n_workers=workers,
-                threads_per_worker=1,
-                processes=processes,
-                dashboard_address=None,
-            )
         try:
-            try:
-                client = distributed.Client(target, set_as_default=False)
-            except OSError as error:
-                raise CaseError(f"--scheduler {scheduler!r}: cannot connect ({error})") from None
-            try:
-                yield client
-            finally:
-                client.close()
+            # a Ctrl-C while the cluster starts waits until it can be closed again
+            with _sigint_blocked():
+                if scheduler is not None:
+                    target = scheduler
+                elif cluster is not None:
+                    started = target = jobqueue_cluster(cluster, options)
+                    if options.get("jobs"):
+                        started.scale(jobs=options["jobs"])
+                    else:
+                        started.scale(n=workers)
+                else:
+                    if processes:
+                        stack.callback(_stop_helpers, helpers)  # last: after the cluster closed
+                        stack.enter_context(_forked_workers())
+                    started = target = distributed.LocalCluster(
+                        n_workers=workers,
+                        threads_per_worker=1,
+                        processes=processes,
+                        dashboard_address=None,
+                        scheduler_kwargs=NO_DASHBOARD,
+                    )
+                try:
+                    client = distributed.Client(target, set_as_default=False)
+                except OSError as error:
+                    raise CaseError(
+                        f"--scheduler {scheduler!r}: cannot connect ({error})"
+                    ) from None
+            yield client
+        except KeyboardInterrupt:
+            _quiet_dask()  # the cluster closes below: its complaints are no news
+            if started is not None and client is not None:
+                with contextlib.suppress(Exception):  # the workers say nothing either
+                    client.run(_quiet_dask)
+            raise
         finally:
-            if started is not None:
-                started.close()
+            try:
+                if client is not None:
+                    client.close()
+            finally:
+                if started is not None:
+                    _close_cluster(started)
+
+
+NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
+"""The scheduler's options: no dashboard, and its bare HTTP server on a free port of the
+loopback interface.  Dask binds that server to port 8787 even without a dashboard, and
+warns when another cluster holds the port; a port of 0 is never "in use"."""
+
+
+def _quiet_dask() -> None:
+    """Dask's loggers at CRITICAL and its warnings ignored for the rest of the command:
+    after a Ctrl-C the cluster shuts down with work in flight, and what Dask says about
+    that (cancelled futures, killed workers, leaked semaphores) is not the user's news."""
+    import logging
+    import warnings
+
+    for name in ("distributed", "dask", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL)
+    warnings.filterwarnings("ignore")
+
+
+def _close_cluster(cluster) -> None:
+    """Close a cluster this command started and wait for its workers to end; a second
+    Ctrl-C while it closes does not leave the workers running."""
+    try:
+        cluster.close()
+    except KeyboardInterrupt:
+        _quiet_dask()
+        cluster.close()
+        raise
