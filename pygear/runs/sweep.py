@@ -18,6 +18,7 @@ share one directory and each keeps its combined dataset.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import math
@@ -36,7 +37,9 @@ from ..errors import CaseError
 from ..io import index_labels, write_netcdf
 from ..model.case import Case, Scene, load_case
 from ..model.case_json import case_json
+from ..resources import FLOAT_BYTES, format_bytes, require_disk
 from .cluster import task_files
+from .plan_checks import check_out_dir
 from .progress import ProgressBar
 from .sweep_points import (
     NAN_IS_A_RESULT,
@@ -173,8 +176,12 @@ def run_sweep(
     Raises
     ------
     CaseError
-        Before any work, for a bad parameter, scene, formulation or cluster option, or
-        an ``out_dir`` that is a file.
+        Before any work, for a bad parameter or value, scene, formulation or cluster
+        option, an ``out_dir`` that cannot be a directory, or point files that would
+        not fit on its disk.
+    OSError
+        ENOSPC, in one line naming the file and the space the rest needs, when the disk
+        fills during the sweep (no partial file is left).
     """
     from .cluster import dask_client, validate_cluster_options
 
@@ -185,11 +192,19 @@ def run_sweep(
     )
     validate_cluster_options(workers, scheduler, cluster, cluster_options)
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise CaseError(f"--out {str(out)!r} is a file: a sweep writes into a directory")
-    out.mkdir(parents=True, exist_ok=True)
+    check_out_dir("--out", out, "a sweep")
     points = sweep_points(parameters, zip_params)
     n_points = len(points)
+    point_bytes = _point_file_bytes(case, chosen, resolved)
+    require_disk(  # at most: every point runs (the reused ones are not known yet)
+        "--param",
+        2 * n_points * point_bytes,
+        out,
+        f"{n_points:,} point files and the combined file, about {format_bytes(point_bytes)} "
+        "a point",
+        "sweep fewer values or free some space",
+    )
+    out.mkdir(parents=True, exist_ok=True)
     shared_attrs = (
         ("case", case.name),
         ("scene", chosen.name),
@@ -212,6 +227,14 @@ def run_sweep(
             workers=workers, scheduler=scheduler, cluster=cluster, cluster_options=cluster_options
         ) as client:
             for record in _run_tasks(client, tasks):
+                if record.get("disk_full"):  # no other point can be written either
+                    left = len(tasks) - len(outcome)
+                    raise OSError(
+                        errno.ENOSPC,
+                        f"{record['error']} (about {format_bytes(point_bytes)} a point; "
+                        f"the {left:,} points left and the combined file need about "
+                        f"{format_bytes(2 * left * point_bytes)}); no partial file is left",
+                    )
                 digest = record["point_hash"]
                 if "data" in record:
                     results[digest] = record.pop("data")
@@ -264,6 +287,25 @@ def run_sweep(
     if progress:
         print(sweep_summary(combined), file=sys.stderr)
     return combined
+
+
+POINT_FILE_OVERHEAD = 64_000
+"""Bytes of a point file beyond its arrays: NetCDF4/HDF5 metadata, the case as JSON and
+the attributes (a transient point of the planetary case writes 54 kB in all)."""
+
+
+def _point_file_bytes(case: Case, scene: Scene, formulation: str) -> float:
+    """A point file's size, at most about: the overhead and 8 bytes for every entry of
+    an n x n table over the model's n DOFs (mode x DOF: the largest a point keeps)."""
+    if case.drivetrain is not None:
+        from .plan_checks import drivetrain_size
+
+        dofs = drivetrain_size(case, scene.dof_set)[0]
+    else:
+        from ..assembly.matrices import assemble
+
+        dofs = assemble(case.for_scene(scene), scene, formulation=formulation).size
+    return POINT_FILE_OVERHEAD + FLOAT_BYTES * float(dofs) ** 2
 
 
 def _plan_points(

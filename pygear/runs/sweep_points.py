@@ -39,6 +39,7 @@ from ..model.case import replace_parameter as _replace
 from ..model.case_json import case_json
 from ..resources import require_memory
 from .cluster import task_files
+from .plan_checks import disk_full
 
 __all__ = [
     "NAN_IS_A_RESULT",
@@ -47,6 +48,7 @@ __all__ = [
     "SweepParameter",
     "apply_assignments",
     "dimension_name",
+    "disk_full",
     "error_message",
     "parse_param",
     "point_hash",
@@ -231,10 +233,29 @@ def validate_sweep(
             "pick another scene with --scene"
         )
     _check_scene_parameters(chosen, parsed)
+    _check_values(case, chosen, parsed)
     check_choice("--formulation", formulation, FORMULATIONS, allow_none=True)
     resolved = formulation or chosen.formulation or case.formulation
     assemble(case.for_scene(chosen), chosen, formulation=resolved)  # e.g. lin-parker, 2 stages
+    if case.drivetrain is not None:  # a point runs the whole drivetrain, dense
+        from .plan_checks import check_drivetrain_memory
+
+        check_drivetrain_memory(case, dense=True, dof_set=chosen.dof_set)
     return chosen, resolved, parsed
+
+
+def _check_values(case: Case, scene: Scene, parsed: Sequence[SweepParameter]) -> None:
+    """Every swept value set alone in the case (or the scene) and checked by the model's
+    own validation, before any point is planned: a value no point can take is bad input.
+    Values that are refused only together, on some points of a grid, fail those points."""
+    for parameter in parsed:
+        for value in dict.fromkeys(parameter.values):
+            assignment = {parameter.path: value}
+            try:
+                apply_assignments(case, assignment, scene)
+                scene_with(scene, assignment)
+            except CaseError as error:
+                raise CaseError(f"--param {parameter.path}={value!r}: {error}") from None
 
 
 def _check_scene_parameters(scene: Scene, parsed: Sequence[SweepParameter]) -> None:
@@ -441,15 +462,27 @@ def run_point(task: PointTask) -> dict:
             record["data"] = data  # spares the client reading the file back
         return record
     except Exception as error:  # noqa: BLE001 - a point's failure must not stop the sweep
-        message = error_message(error)
-        write_error_record(task.error_path, task, message, traceback.format_exc())
-        return {
+        record = {
             "index": task.index,
             "point_hash": task.point_hash,
             "status": "failed",
             "wall_s": time.perf_counter() - started,
-            "error": message,
         }
+        if disk_full(error):  # the sweep stops: no other point can be written either
+            return {
+                **record,
+                "error": f"no space left on device writing {task.path}",
+                "disk_full": 1,
+            }
+        message = error_message(error)
+        try:
+            write_error_record(task.error_path, task, message, traceback.format_exc())
+        except OSError as written:
+            if not disk_full(written):
+                raise
+            message = f"no space left on device writing {task.error_path}"
+            return {**record, "error": message, "disk_full": 1}
+        return {**record, "error": message}
 
 
 def error_message(error: BaseException) -> str:
