@@ -170,8 +170,9 @@ def _campbell(args: argparse.Namespace) -> int:
     if args.member not in MEMBERS:
         raise CaseError(f"--member must be one of {', '.join(MEMBERS)} (got {args.member!r})")
     harmonics = _harmonics(args.harmonics)
-    if args.out is not None and args.out.exists() and not args.out.is_dir():
-        raise CaseError(f"--out {str(args.out)!r} is a file: campbell writes into a directory")
+    from ..runs.plan_checks import check_out_dir
+
+    check_out_dir("--out", args.out, "campbell")
     import numpy as np
 
     from ..model.case import load_case  # NumPy and the model load only when the command runs

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..errors import CaseError
 from ..model.names import DOF_SETS, FORMULATIONS
 from ..runs.progress import ProgressBar
 
@@ -92,30 +93,38 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         choices=FORMULATIONS,
         help="one or more formulations (default: the case's)",
     )
-    sensitivity.add_argument("--dof-set", choices=DOF_SETS)
+    sensitivity.add_argument(
+        "--dof-set",
+        choices=DOF_SETS,
+        help="DOF set (default: the smallest exact one for the case)",
+    )
     sensitivity.add_argument("--out", type=Path, help="output directory (default: out/<case>)")
     sensitivity.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def _print_modal_table(modal: ModalResult) -> None:
+    """One row per mode; each column as wide as its longest entry (stage names and mode
+    classes of any length stay aligned)."""
     print(
         f"{modal.attrs['case']}: {modal.attrs['formulation']} formulation, "
         f"{modal.attrs['dof_set']} DOF set ({modal.attrs['dof_set_reason']}), "
         f"{modal.frequency.size} modes"
     )
     several = len(modal.stages) > 1
-    stage_header = f"{'stage':<12} " if several else ""
-    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {stage_header}{'class':<22} {'x':>2}")
-    for m, f, st, c, i, r in zip(
+    classes = [f"{c} {i}" for c, i in zip(modal.mode_class, modal.class_index)]
+    class_width = max([len("class"), *map(len, classes)])
+    stage_width = max([len("stage"), *(len(str(st)) for st in modal.stage_name)])
+    stage_header = f"{'stage':<{stage_width}}  " if several else ""
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {stage_header}{'class':<{class_width}}  {'x':>2}")
+    for m, f, st, label, r in zip(
         range(1, modal.frequency.size + 1),
         modal.frequency,
         modal.stage_name,
-        modal.mode_class,
-        modal.class_index,
+        classes,
         modal.multiplicity,
     ):
-        stage = f"{st:<12} " if several else ""
-        print(f"{m:>4}  {f:>14.1f}  {stage}{c + ' ' + str(i):<22} {r:>2}")
+        stage = f"{st:<{stage_width}}  " if several else ""
+        print(f"{m:>4}  {f:>14.1f}  {stage}{label:<{class_width}}  {r:>2}")
 
 
 def _modal(args: argparse.Namespace) -> int:
@@ -124,7 +133,9 @@ def _modal(args: argparse.Namespace) -> int:
     from ..assembly.matrices import assemble
     from ..model.case import load_case
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_out_dir
 
+    check_out_dir("--out", args.out, "modal --out")
     case = load_case(args.case)
     if case.drivetrain is not None:
         if args.speed is not None:
@@ -181,22 +192,39 @@ def _modal(args: argparse.Namespace) -> int:
 def _drivetrain_modal(case, args: argparse.Namespace) -> int:
     """A drivetrain case: its lowest ``--modes`` modes, spatial unless ``--dof-set``."""
     from ..analysis.modes.drivetrain_modal import drivetrain_modes
-    from ..assembly.drivetrain import assemble_drivetrain
+    from ..assembly.drivetrain import assemble_drivetrain, drivetrain_formulation
     from ..errors import CaseError
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_drivetrain_memory
 
     if args.modes < 1:
         raise CaseError(f"--modes must be at least 1 (got {args.modes})")
     below = _frequency_hz("--below", args.below) if args.below is not None else None
     if args.out or args.compare_stage:
         raise CaseError("--out and --compare-stage are for gearbox cases, not a drivetrain")
+    # improved and consistent join the shafts; lin-parker (a rotating frame) is refused
+    plain = case.drivetrain.gearbox is None  # a rotor: no gearbox, no formulation
+    formulation = (
+        None if plain else drivetrain_formulation(case, None, args.formulation, "--formulation")
+    )
+    check_drivetrain_memory(case, dense=False, dof_set=args.dof_set)  # before assembling
     started = time.perf_counter()
-    model = assemble_drivetrain(case, dof_set=args.dof_set)
+    model = assemble_drivetrain(case, dof_set=args.dof_set, formulation=formulation)
+    if below is None and args.modes >= model.size:
+        _log.warning(
+            "--modes %d: the sparse eigensolver finds at most %d modes of a model of %d "
+            "DOFs (one fewer than its DOFs); printing %d",
+            args.modes,
+            model.size - 1,
+            model.size,
+            model.size - 1,
+        )
     modes = drivetrain_modes(model, args.modes, below_hz=below)
     elapsed = time.perf_counter() - started
     if args.json:
         summary = {
             "case": case.name,
+            "formulation": "none" if plain else model.gearbox.formulation,
             "dof_set": model.dof_set,
             "dofs": model.size,
             "frequencies_hz": [float(f) for f in modes.frequencies_hz],
@@ -207,7 +235,9 @@ def _drivetrain_modal(case, args: argparse.Namespace) -> int:
         return 0
     _log.info("drivetrain assembly and eigensolution: %.1f ms", elapsed * 1e3)
     print(
-        f"{case.name}: drivetrain, {model.dof_set} DOF set, {model.size} DOFs, "
+        f"{case.name}: "
+        + ("rotor, " if plain else f"drivetrain, {model.gearbox.formulation} formulation, ")
+        + f"{model.dof_set} DOF set, {model.size} DOFs, "
         f"{modes.frequencies_hz.size} lowest modes"
     )
     print(f"{'mode':>4}  {'frequency [Hz]':>14}  dominant DOF")
@@ -290,6 +320,8 @@ def _matrices(args: argparse.Namespace) -> int:
     from ..model.case import load_case
 
     check_suffix("--out", args.out, ".npz", "a NumPy archive of M, K, C and the DOF labels")
+    if args.out.is_dir():
+        raise CaseError(f"--out {str(args.out)!r} is a directory: matrices writes one .npz file")
     case = load_case(args.case)
     model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
     write_npz(
@@ -313,7 +345,9 @@ def _sensitivity(args: argparse.Namespace) -> int:
     from ..model.case import load_case
     from ..plots.modal import plot_frequency_sweep
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_out_dir
 
+    check_out_dir("--out", args.out, "sensitivity")
     case = load_case(args.case)
     values = parse_values(args.values)
     sweep = frequency_sweep(
