@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import logging
+import os
 import sys
 import threading
 import warnings
@@ -60,6 +61,10 @@ _USER_ERRORS = (
 )
 """Errors besides CaseError that mean bad input (exit code 2).  An error can only be an
 instance of a class whose module is loaded, so these are looked up, never imported."""
+
+_RUN_ERRORS = (("pygear.runs.fault_dataset", "DatasetError"),)
+"""Errors of sound input whose work failed (every record of a dataset): a one-line
+error with exit code 1, not an internal error.  Looked up like :data:`_USER_ERRORS`."""
 
 
 _DASK_COMMANDS = frozenset({"batch", "sweep", "accuracy", "dataset"})
@@ -114,7 +119,12 @@ class _VersionAction(argparse.Action):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
-    parser = argparse.ArgumentParser(prog="pygear", description="The ``pygear`` command line.")
+    parser = argparse.ArgumentParser(
+        prog="pygear",
+        description="Gearbox and drivetrain dynamics: modes, transients, signals and "
+        "condition monitoring.  Results go to stdout, diagnostics to stderr; exit code 0 "
+        "on success, 2 for bad input, 1 for other errors.",
+    )
     parser.add_argument(
         "--version",
         action=_VersionAction,
@@ -225,12 +235,35 @@ def _logging(args: argparse.Namespace, whole_process: bool) -> Iterator[None]:
         logger.propagate = saved[2]
 
 
+def _loaded_types(names: tuple[tuple[str, str], ...]) -> tuple[type[BaseException], ...]:
+    return tuple(
+        getattr(sys.modules[module], name) for module, name in names if module in sys.modules
+    )
+
+
 def _user_error_types() -> tuple[type[BaseException], ...]:
     types: list[type[BaseException]] = [CaseError]
     for module, name in _USER_ERRORS:
         if module in sys.modules:
             types.append(getattr(sys.modules[module], name))
     return tuple(types)
+
+
+CLOSED_PIPE = 141
+"""Exit code when stdout's reader closed the pipe: 128 + SIGPIPE, what a command killed by
+the signal gives, so ``set -o pipefail`` still tells it from a success."""
+
+
+def _closed_pipe(whole_process: bool) -> int:
+    """End quietly after stdout's pipe closed: nothing on stderr, and stdout pointed at
+    the null device so that the interpreter's own flush at exit finds no pipe to fail on
+    (a call ``main([...])`` from Python leaves its streams alone)."""
+    if whole_process:
+        with contextlib.suppress(OSError, ValueError):
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, sys.stdout.fileno())
+            os.close(null)
+    return CLOSED_PIPE
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -248,9 +281,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     try:
         with hidden, _logging(args, whole_process):
-            return handler(args)
+            code = handler(args)
+            sys.stdout.flush()  # a closed pipe shows here, not at the interpreter's exit
+            return code
+    except BrokenPipeError:  # the reader of stdout went away (`pygear modal CASE | head -1`)
+        return _closed_pipe(whole_process)
     except KeyboardInterrupt as interrupt:  # Ctrl-C, or SIGTERM while a file is written
-        print(f"pygear {args.command}: {interrupt or 'interrupted'}", file=sys.stderr)
+        print(f"pygear {args.command}: {str(interrupt) or 'interrupted'}", file=sys.stderr)
         return 128 + getattr(interrupt, "signal_number", 2)  # 130 Ctrl-C, 143 SIGTERM
     except Exception as error:
         if args.debug:
@@ -259,6 +296,9 @@ def main(argv: list[str] | None = None) -> int:
         if isinstance(error, _user_error_types()):
             print(f"pygear {args.command}: error: {message}", file=sys.stderr)
             return 2
+        if isinstance(error, _loaded_types(_RUN_ERRORS)):
+            print(f"pygear {args.command}: error: {message}", file=sys.stderr)
+            return 1
         if isinstance(error, OSError):  # a file or folder the system refused
             what = type(error).__name__
             print(f"pygear {args.command}: error: {what}: {message}", file=sys.stderr)
