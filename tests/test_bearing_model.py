@@ -123,3 +123,22 @@ def test_defects_are_checked_alone_and_against_the_bearing():
         BearingDefect("element", width=1e-3, depth=1e-5, element=9).validate("defects[0]", ball())
     with pytest.raises(CaseError, match=r"^fault\.wear must be a finite number >= 0"):
         DistributedFault("outer", wear=-1e-6)
+
+
+def test_nrel_planet_bearings_fit_their_published_envelopes():
+    from pygear.model.case_files import load_case_module
+
+    _, module = load_case_module("nrel5mw_gearbox")
+    # Nejad et al. (2016) Tables VI, IX: outer x bore x width [m] of the planet CRBs
+    envelopes = {"PL": (0.600, 0.400, 0.272), "IMS-PL": (0.520, 0.380, 0.140)}
+    bearings = {b.name: b for b in module.rolling_bearings}
+    assert set(bearings) == {"PL-A", "PL-B", "IMS-PL-A", "IMS-PL-B"}
+    assert set(bearings) <= {b.name for b in module.rating.bearings}
+    for name, bearing in bearings.items():
+        outer, bore, width = envelopes[name.rsplit("-", 1)[0]]
+        assert bearing.pitch_diameter == pytest.approx((outer + bore) / 2)
+        assert bearing.element_diameter < (outer - bore) / 2  # inside the section
+        assert bearing.rows * bearing.roller_length < width
+        spacing = math.pi * bearing.pitch_diameter / bearing.elements
+        assert bearing.element_diameter < spacing  # rollers fit around the pitch circle
+        assert bearing.planet and bearing.turning == "outer"

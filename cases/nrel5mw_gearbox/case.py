@@ -65,6 +65,7 @@ from pygear.model import (
     working_pressure_angle,
 )
 from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
+from pygear.model.rolling_bearing import RollingBearing
 
 # ----------------------------------------------------------------------------------
 # Gear geometry [P-V]; the SIMPACK model repeats m_n, b, a_w, alpha_n, beta, z and x
@@ -844,4 +845,34 @@ rating = Rating(
         shaft_bearing("HS-C", c=1.46e6, c0=2.8e6, share=0.25, axial=0.0,
                       pitch_diameter=0.380, **TAPERED),
     ),
+)
+
+# Planet bearings as rolling-element geometry (#33; pygear.model.rolling_bearing), for
+# their load zone, varying compliance, characteristic frequencies and defects.  Types and
+# envelopes [P-VI,IX]: PL-A/B 600 x 400 x 272 mm and IMS-PL-A/B 520 x 380 x 140 mm
+# double-row CRBs, two per planet pin; the pitch diameter is the envelope's mean.
+# ASSUMED (not in the tables): roller diameter ~0.55 of the section height, roller count
+# from a caged pitch of ~1.15 roller diameters, two rows of ~0.4 of the width each (with
+# these ISO 281's C formula gives 6.0e6 N and 2.7e6 N, near the ratings assumed above),
+# and a diametral clearance in ISO 5753's normal group for the bore (0.12 and 0.10 mm).
+# Outer ring = the planet's bore, inner ring = the carrier's pin.
+ROLLING_BEARING_SIZES = {  # name: (stage, Z, D_pw, D_we, L_we per row, P_d) [m]
+    "PL-A": ("stage1", 24, 0.500, 0.055, 0.110, 120e-6),
+    "PL-B": ("stage1", 24, 0.500, 0.055, 0.110, 120e-6),
+    "IMS-PL-A": ("stage2", 28, 0.450, 0.040, 0.055, 100e-6),
+    "IMS-PL-B": ("stage2", 28, 0.450, 0.040, 0.055, 100e-6),
+}
+rolling_bearings = tuple(
+    RollingBearing(
+        name=name,
+        type="roller",
+        elements=z,
+        pitch_diameter=pitch,
+        element_diameter=roller,
+        roller_length=length,
+        rows=2,
+        diametral_clearance=clearance,
+        location=f"{stage}.planet",
+    )
+    for name, (stage, z, pitch, roller, length, clearance) in ROLLING_BEARING_SIZES.items()
 )
