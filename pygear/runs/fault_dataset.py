@@ -23,13 +23,13 @@ Fault kinds (``--faults KIND=VALUES``):
 from __future__ import annotations
 
 import dataclasses
+import errno
 import hashlib
 import json
 import math
 import os
 import sys
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import CaseError
-from ..io import index_labels, source_identity, write_netcdf
+from ..io import source_identity, write_netcdf
 from ..model.case import Case, Scene, load_case, validate_defects
 from ..model.case_json import case_json
 from ..model.components import ToothDefect
@@ -45,9 +45,23 @@ from ..model.gear_geometry import base_half_thickness
 from ..model.tooth_faults import ChippedTooth, RootCrack
 from ..model.transient_settings import Probe, TorqueLaw
 from .dataset_card import data_card
+from .dataset_checks import (
+    check_distinct,
+    check_footprint,
+    check_gear,
+    check_record_length,
+    record_start,
+)
+from .dataset_records import (
+    INDICATORS,
+    combine_records,
+    record_dataset,
+    trend_figure,
+)
+from .plan_checks import disk_full
 from .progress import ProgressBar
 
-__all__ = ["FAULT_KINDS", "DatasetPlan", "plan_dataset", "run_dataset"]
+__all__ = ["FAULT_KINDS", "DatasetError", "DatasetPlan", "plan_dataset", "run_dataset"]
 
 FAULT_KINDS = ("crack_depth", "stiffness_factor", "chipped_fraction")
 """Severity axes a dataset may sweep (module docstring)."""
@@ -57,35 +71,6 @@ CRACK_ANGLE_DEG = 45.0
 
 DATASET_FORMAT = "2"
 """Changes when a record file's content changes meaning (part of every record hash)."""
-
-LABEL_ATTRS = {
-    "fault_kind": {"long_name": "kind of tooth fault"},
-    "fault_gear": {"long_name": "gear with the damaged tooth (stage.member)"},
-    "fault_tooth": {"units": "1", "long_name": "damaged tooth number"},
-    "severity": {"units": "1", "long_name": "fault severity (its kind's own measure)"},
-    "speed_rpm": {"units": "rpm", "long_name": "carrier speed"},
-    "load_nm": {"units": "N m", "long_name": "carrier torque"},
-    "snr_db": {"units": "1", "long_name": "signal-to-noise ratio of the sensor noise in dB"},
-    "seed": {"units": "1", "long_name": "seed of the sensor noise"},
-}
-"""CF attributes of a record's labels (coordinates along ``record`` in the dataset)."""
-
-RECORD_SENSOR = "sensor_acceleration"
-"""A record's noisy sensor series over ``time`` (its attributes: the sensor's settings)."""
-
-INDICATORS = (
-    "fm0",
-    "fm4",
-    "na4",
-    "nb4",
-    "m6a",
-    "m8a",
-    "energy_ratio",
-    "sideband_level_factor",
-    "kurtosis",
-    "crest_factor",
-    "rms",
-)
 
 
 @dataclass(frozen=True)
@@ -104,6 +89,8 @@ class DatasetPlan:
     sensor: str
     snr_db: float
     duration: float | None
+    footprint: tuple = ()
+    """What :func:`.dataset_checks.check_footprint` estimates memory and disk from."""
 
 
 @dataclass(frozen=True)
@@ -161,8 +148,15 @@ def plan_dataset(
     scene: str | None = None,
     snr_db: float = 20.0,
     duration: float | None = None,
+    workers: int = 2,
+    out: str | os.PathLike | None = None,
 ) -> DatasetPlan:
-    """Check a dataset request before any work; raise :class:`CaseError` naming the option."""
+    """Check a dataset request before any work; raise :class:`CaseError` naming the option.
+
+    Memory is estimated for ``workers`` runs at once, and disk, when ``out`` is given,
+    for every record and the combined file (:func:`.dataset_checks.check_footprint`;
+    :func:`run_dataset` checks both again with its own workers and directory).
+    """
     case = case_ref if isinstance(case_ref, Case) else load_case(case_ref)
     kind, _, values = faults.partition("=")
     if kind not in FAULT_KINDS or not values:
@@ -170,6 +164,7 @@ def plan_dataset(
             f"--faults {faults!r}: give KIND=VALUES with KIND one of {', '.join(FAULT_KINDS)}"
         )
     severities = parse_values(values, "--faults")
+    check_distinct(f"--faults {kind}", severities)
     if any(not 0.0 <= s < 1.0 for s in severities) and kind == "crack_depth":
         raise CaseError("--faults crack_depth: severities lie in [0, 1) (depth over h_b)")
     if any(not 0.0 <= s <= 1.0 for s in severities):
@@ -180,13 +175,19 @@ def plan_dataset(
         raise CaseError("--speeds: carrier speeds are positive, in rpm")
     if any(not (math.isfinite(v) and v > 0) for v in load_values):
         raise CaseError("--loads: carrier torques are positive, in N m")
+    check_distinct("--speeds", speed_values)
+    check_distinct("--loads", load_values)
     if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
         raise CaseError(f"--seeds must be a whole number >= 1 (got {seeds!r})")
     if not math.isfinite(snr_db):
         raise CaseError(f"--snr must be a finite ratio in dB (got {snr_db!r})")
+    if duration is not None and not (math.isfinite(duration) and duration > 0):
+        raise CaseError(f"--duration must be a positive time in s (got {duration!r})")
     chosen, sensor = _sensor_scene(case, scene)
     stage = next(s for s in case.sensors if s.name == sensor).stage
     gear = gear or f"{stage}.sun"
+    check_gear(case, stage, gear, kind)
+    check_record_length(duration or chosen.transient.duration, speed_values, duration is not None)
     plan = DatasetPlan(
         case,
         chosen,
@@ -194,16 +195,64 @@ def plan_dataset(
         severities,
         speed_values,
         load_values,
-        tuple(range(seeds)),
+        range(seeds),  # not a tuple: a million seeds take no memory until they run
         gear,
         int(tooth),
         sensor,
         float(snr_db),
         duration,
     )
-    for labels in _grid(plan):  # every record's case and scene, checked before any run
-        _record_case(plan, labels)
+    plan = dataclasses.replace(plan, footprint=_footprint(plan))  # tries the grid's corners
+    check_footprint(**dict(plan.footprint), workers=workers, out=out)
+    # every severity's and every operating point's case and scene, before any run
+    for speed in plan.speeds:  # the operating points' whole case and scene
+        for load in plan.loads:
+            _record_case(plan, {"severity": severities[0], "speed_rpm": speed, "load_nm": load})
+    where = f"--gear {plan.gear!r} --tooth {plan.tooth}"
+    for severity in severities[1:]:  # the severities' faults alone (they change no more)
+        defect = _defect(plan, case, severity)
+        validate_defects(case.gearbox, (defect,) if defect else (), f"{where} --faults {kind}")
     return plan
+
+
+def _footprint(plan: DatasetPlan) -> tuple:
+    """The transient set up (not run) on the corners of the grid, the slowest and the
+    fastest speed under the least and the largest load at the largest severity: what
+    the kernel refuses there (a load too large for the meshes) is refused before any
+    run.  Returns :func:`.dataset_checks.check_footprint`'s inputs."""
+    from ..analysis.time.transient import transient_problem
+    from .plan_checks import check_drivetrain_memory
+
+    check_drivetrain_memory(plan.case, dense=True, dof_set=plan.scene.dof_set)  # before assembly
+    samples = channels = 0
+    for speed in sorted({min(plan.speeds), max(plan.speeds)}):
+        for load in sorted({min(plan.loads), max(plan.loads)}):
+            labels = {"severity": max(plan.severities), "speed_rpm": speed, "load_nm": load}
+            case, scene = _record_case(plan, labels)
+            problem = transient_problem(case, scene)
+            settings = problem.settings
+            samples = max(samples, settings.steps // settings.decimation + 1)
+            channels = max(channels, len(problem.probes))
+    stage = plan.case.gearbox.stage(plan.gear.partition(".")[0])
+    ring = stage.gear_teeth("ring") if "ring" in getattr(stage, "member_names", ()) else None
+    duration = plan.duration or plan.scene.transient.duration
+    averaged = duration - record_start(duration)
+    passes = (ring or 0) * max(plan.speeds) / 60.0 * averaged  # fixed ring: Z_r turns
+    grid = len(plan.severities) * len(plan.speeds) * len(plan.loads)
+    counts = {
+        "--faults": len(plan.severities),
+        "--speeds": len(plan.speeds),
+        "--loads": len(plan.loads),
+        "--seeds": len(plan.seeds),
+    }
+    return (
+        ("most", max(counts, key=counts.get)),  # the option the disk check names
+        ("records", grid * len(plan.seeds)),
+        ("simulations", grid),
+        ("samples", samples),
+        ("channels", channels),
+        ("mesh_passes", float(passes)),
+    )
 
 
 def _grid(plan: DatasetPlan) -> list[dict]:
@@ -352,72 +401,6 @@ def _tasks(plan: DatasetPlan, out: Path) -> tuple[list[RecordTask], list[str], i
     return tasks, hashes, found
 
 
-def _sensor_channel(scene: Scene, sensor: str) -> str:
-    """The channel name of the sensor's probe (:mod:`pygear.analysis.signals.channels`)."""
-    probe = next(
-        p for p in scene.transient.probes if p.quantity == "sensor" and p.target == sensor
-    )
-    return probe.name or f"sensor_acceleration:{sensor}"
-
-
-def _record(task: RecordTask, run: xr.Dataset, seed: int, digest: str) -> xr.Dataset:
-    """One record: the noisy sensor channel, the tachometer, the gear's average, the
-    indicators and the labels."""
-    from ..analysis.condition.gear_average import gear_average, gear_indicator_values, member_angle
-    from ..analysis.condition.sensor_signal import add_noise
-    from ..analysis.condition.synchronous_average import synthetic_tachometer
-    from ..analysis.signals.channels import channel_series
-
-    channel = _sensor_channel(task.scene, task.sensor)
-    clean = channel_series(run, channel)
-    noisy = clean.copy(data=add_noise(clean.values, task.snr_db, seed)).rename(RECORD_SENSOR)
-    noisy.attrs.update(
-        sensor_noise_snr_db=task.snr_db, sensor_noise_seed=seed, channel=RECORD_SENSOR
-    )
-    stage = task.gear.partition(".")[0]
-    carrier = member_angle(run, stage, "carrier")
-    view = run.assign({RECORD_SENSOR: noisy})
-    start = float(run.time[0]) + min(0.5, 0.25 * float(run.time[-1] - run.time[0]))
-    average = gear_average(view.sel(time=slice(start, None)), task.gear, RECORD_SENSOR)
-    indicators = gear_indicator_values(average)
-    pulses = synthetic_tachometer(run.time.values, carrier.values, 1)
-    data = xr.Dataset(
-        {
-            RECORD_SENSOR: noisy,
-            "tachometer_angle": carrier.assign_attrs(
-                long_name="carrier angle (the tachometer's shaft)", units="rad"
-            ),
-            "tachometer_pulse_time": (
-                ("pulse",),
-                pulses,
-                {"units": "s", "long_name": "once-per-turn pulses of the carrier"},
-            ),
-            "gear_average": average.rename(angle="angle_step").drop_vars(
-                "weight_sum", errors="ignore"
-            ),
-        },
-        coords={
-            "pulse": ("pulse", np.arange(pulses.size), {"units": "1", "long_name": "pulse number"})
-        },
-    )
-    unit = noisy.attrs.get("units", "m/s^2")
-    units = {"rms": unit, "residual_variance": f"({unit})^2", "envelope_variance": f"({unit})^2"}
-    for name in (*INDICATORS, "residual_variance", "envelope_variance"):
-        attrs = {"long_name": f"{name} of the gear average", "units": units.get(name, "1")}
-        data[name] = ((), float(indicators[name]), attrs)
-    labels = {**task.labels, "seed": seed}
-    data = data.assign_coords({k: ((), v, LABEL_ATTRS.get(k, {})) for k, v in labels.items()})
-    data.attrs.update(
-        record_hash=digest,
-        case=task.case.name,
-        scene=task.scene.name,
-        gear=task.gear,
-        sensor_channel=channel,
-        labels=json.dumps(labels),
-    )
-    return data
-
-
 def run_record_task(task: RecordTask) -> list[dict]:
     """Simulate one (severity, speed, load) and write a record per seed; never raises."""
     from ..analysis.time.transient import run_transient
@@ -425,11 +408,12 @@ def run_record_task(task: RecordTask) -> list[dict]:
     from .cluster import task_files
 
     started = time.perf_counter()
+    path = task.paths[0]
     try:
         run = run_transient(task.case, task.scene)
         record_case_json = case_json(task.case)
         for seed, digest, path in zip(task.seeds, task.hashes, task.paths):
-            record = _record(task, run, seed, digest)
+            record = record_dataset(task, run, seed, digest)
             with task_files():  # HDF5 is not thread-safe: one writer per worker process
                 write_netcdf(
                     record,
@@ -442,10 +426,22 @@ def run_record_task(task: RecordTask) -> list[dict]:
         wall = time.perf_counter() - started
         return [{"hash": d, "status": "computed", "wall_s": wall} for d in task.hashes]
     except Exception as error:  # noqa: BLE001 - one record's failure must not stop the rest
+        if disk_full(error):  # the dataset stops: no other record can be written either
+            failed = {"status": "failed", "error": f"no space left on device writing {path}"}
+            return [{"hash": d, **failed, "disk_full": 1} for d in task.hashes]
         message = str(error) if isinstance(error, CaseError) else f"{type(error).__name__}: {error}"
         for path in task.paths:
-            with atomic_path(Path(path).with_suffix(".error.json")) as temporary:
-                Path(temporary).write_text(json.dumps({"labels": task.labels, "error": message}))
+            target = Path(path).with_suffix(".error.json")
+            try:
+                with atomic_path(target) as temporary:
+                    Path(temporary).write_text(
+                        json.dumps({"labels": task.labels, "error": message})
+                    )
+            except OSError as written:
+                if not disk_full(written):
+                    raise
+                failed = {"status": "failed", "error": f"no space left on device writing {target}"}
+                return [{"hash": d, **failed, "disk_full": 1} for d in task.hashes]
         return [{"hash": d, "status": "failed", "error": message} for d in task.hashes]
 
 
@@ -467,12 +463,15 @@ def run_dataset(
         ``records``, ``records_computed``, ``records_reused``, ``records_failed`` and
         ``path`` (the combined file; the data card beside it has the suffix ``.md``).
     """
-    from .cluster import dask_client
+    from .cluster import dask_client, validate_cluster_options
+    from .plan_checks import check_out_dir
 
     started = time.perf_counter()
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise CaseError(f"--out {str(out)!r} is a file: a dataset writes into a directory")
+    check_out_dir("--out", out, "a dataset")
+    validate_cluster_options(workers, scheduler)
+    if plan.footprint:
+        check_footprint(**dict(plan.footprint), workers=workers, out=out)
     out.mkdir(parents=True, exist_ok=True)
     tasks, hashes, found = _tasks(plan, out)
     bar = ProgressBar(f"dataset {plan.case.name}", enabled=progress)
@@ -485,12 +484,21 @@ def run_dataset(
 
             futures = client.map(run_record_task, tasks, pure=False)
             for future in as_completed(futures, loop=client.loop):
-                for record in future.result():
+                records = future.result()
+                full = next((r for r in records if r.get("disk_full")), None)
+                if full is not None:
+                    raise OSError(errno.ENOSPC, _disk_full_message(full, plan, len(outcome)))
+                for record in records:
                     outcome[record["hash"]] = record
-                done += len(future.result())
+                done += len(records)
                 bar(done, len(hashes))
     failed = [r for r in outcome.values() if r["status"] == "failed"]
     complete = [h for h in hashes if h not in {r["hash"] for r in failed}]
+    if not complete:  # no record: no dataset, no card (the error records say why)
+        raise DatasetError(
+            f"every one of the {len(hashes)} records failed, so no dataset was written; "
+            f"the first: {failed[0]['error'] if failed else 'unknown'}"
+        )
     combined = combine_records([_record_path(out, h) for h in complete])
     digest = hashlib.sha256(" ".join(hashes).encode()).hexdigest()[:16]
     combined.attrs.update(
@@ -520,7 +528,7 @@ def run_dataset(
         Path(temporary).write_text(data_card(plan, combined, path.name, INDICATORS))
     combined.attrs["path"] = str(path)
     if figures and combined.sizes.get("record", 0):
-        _trend_figure(combined, out / f"dataset_{digest}_trends.png", plan)
+        trend_figure(combined, out / f"dataset_{digest}_trends.png", plan)
     combined.attrs["wall_s"] = time.perf_counter() - started
     if progress:
         print(
@@ -534,60 +542,20 @@ def run_dataset(
     return combined
 
 
-def _trend_figure(combined: xr.Dataset, path: Path, plan: DatasetPlan) -> None:
-    """FM4, the NA4 trend, FM0 and ER against severity, drawn after the files are safe."""
-    from ..io import save_figure
-    from ..plots.condition_monitoring import plot_indicator_trends
-
-    figure = plot_indicator_trends(
-        combined,
-        indicators=("fm4", "na4_trend", "fm0", "energy_ratio"),
-        title=f"{plan.case.name}: {plan.kind} on {plan.gear} tooth {plan.tooth}",
-    )
-    save_figure(figure, path, dpi=figure.dpi, release=True)  # atomic: no half-written figure
+class DatasetError(RuntimeError):
+    """Every record of a dataset failed (exit code 1: the input was sound)."""
 
 
-def combine_records(paths: Sequence[Path]) -> xr.Dataset:
-    """The records on one ``record`` dimension, with the NA4 and NB4 trends: each
-    record's fourth moment over the mean variance of the records of its operating point
-    and seed up to its severity (Zakrajsek et al. 1993's running average)."""
-    records = []
-    for path in paths:
-        with xr.open_dataset(path, decode_times=False) as data:
-            records.append(index_labels(data.load()))
-    if not records:
-        return xr.Dataset()
-    combined = xr.concat(
-        [r.expand_dims("record") for r in records],
-        dim="record",
-        join="outer",  # the pulse counts differ between speeds: NaN-padded
-        combine_attrs="override",  # the variables keep their units and long names
-        coords="all",
-        compat="override",
+def _disk_full_message(record: dict, plan: DatasetPlan, written: int) -> str:
+    """One line: the file that did not fit and what the rest of the plan needs."""
+    from ..resources import format_bytes
+    from .dataset_checks import RECORD_OVERHEAD
+
+    footprint = dict(plan.footprint)
+    size = RECORD_OVERHEAD + 3.0 * footprint.get("samples", 0) * 8
+    left = max(footprint.get("records", 0) - written, 1)
+    return (
+        f"{record['error']} (a record takes about {format_bytes(size)}; the {left:,} records "
+        f"left and the combined dataset need about {format_bytes(2 * left * size)}); "
+        "no partial file is left"
     )
-    combined.attrs = {}  # the first record's own: the dataset sets its own
-    combined["record"] = ("record", np.arange(len(records)), {"units": "1", "long_name": "record"})
-    combined["record_hash"] = (
-        "record",
-        [r.attrs["record_hash"] for r in records],
-        {"long_name": "input hash: the record's file is record_<hash>.nc"},
-    )
-    point = np.stack([combined[k].values for k in ("speed_rpm", "load_nm", "seed")], axis=1)
-    severity = combined.severity.values
-    # record j is in record i's trend: same operating point and seed, severity up to i's
-    member = (point[:, None, :] == point[None, :, :]).all(axis=2)
-    member &= severity[None, :] <= severity[:, None]
-    for indicator, variance in (("na4", "residual_variance"), ("nb4", "envelope_variance")):
-        own = combined[variance].values
-        mean = (member * own[None, :]).sum(axis=1) / member.sum(axis=1)
-        trend = combined[indicator].values * own**2 / mean**2
-        combined[f"{indicator}_trend"] = (
-            "record",
-            trend,
-            {
-                "units": "1",
-                "long_name": f"{indicator.upper()} normalised by the mean {variance} of the "
-                "records of the same speed, load and seed up to this severity",
-            },
-        )
-    return combined
