@@ -5,21 +5,16 @@
 - :mod:`.hill`: harmonic balance (Hill's method), its sparse block matrix and the mesh
   signals rebuilt from a solution;
 - :mod:`.floquet`: Floquet multipliers from the monodromy matrix;
-- :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``;
-- :mod:`.contact_loss`: the steady state with tooth separation (AFT Newton), one speed
-  at a time (continuation along speed is the next step).
+- :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``.
 """
 
-from .contact_loss import ContactLossError, contact_loss_balance
 from .floquet import floquet_multipliers, system_multipliers
 from .hill import HillSolution, harmonic_balance, hill_matrix, mesh_signals, solve_hill
 from .sweep import forced_response, response_summary, sweep_system
 from .system import ResponseSystem, response_system
 
 __all__ = [
-    "ContactLossError",
     "HillSolution",
-    "contact_loss_balance",
     "ResponseSystem",
     "floquet_multipliers",
     "forced_response",
