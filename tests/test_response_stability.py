@@ -106,7 +106,7 @@ def _spur_pair(contact_ratio: float, end_to_peak: float, beta: float) -> Case:
 
 
 def test_main_resonance_of_a_spur_pair_at_iso_n_e1():
-    """ISO 6336-1 (6.3): n_E1 = 30000 / (pi z1) sqrt(c_gamma_alpha / m_red) [rpm], in SI
+    """ISO 6336-1 (method B): n_E1 = 30000 / (pi z1) sqrt(c_gamma_alpha / m_red) [rpm], in SI
     30 / (pi z1) sqrt(k / m_red) with m_red of the gears' J / r_b^2.
 
     The model's mesh mode differs from ISO's single-DOF one only by the bearings'

@@ -5,7 +5,7 @@ frequency (:mod:`.hill`), rebuilds every mesh's deflection and force over a peri
 and reads from them:
 
 - the dynamic factor K_v,m = max_t F_m(t) / mean_t F_m(t), the peak over the mean load
-  of the mesh at that speed (ISO 6336-1 §6: dynamic over static tooth load; the mean
+  of the mesh at that speed (ISO 6336-1: dynamic over static tooth load; the mean
   over a period is the static load the mesh carries, so K_v is kept apart from the
   load sharing);
 - the dynamic transmission error of each mesh: RMS about its mean and peak to peak of
@@ -13,7 +13,7 @@ and reads from them:
 - the tooth-separation flag: F_m(t) < 0 somewhere in the period (the linear model then
   pulls the teeth together: the answer past that speed needs contact loss);
 - the planet load-sharing factor of each planetary stage, K_gamma = max over planets of
-  the mean sun-planet mesh force / mean over planets (IEC 61400-4:2012 §7.2.3.3, which
+  the mean sun-planet mesh force / mean over planets (IEC 61400-4:2012, which
   applies ISO 6336's mesh load factor to the mean planet branch loads), and the same
   ratio of the peak forces;
 - the largest force of every bearing over the period [N];
