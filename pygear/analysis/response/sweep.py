@@ -48,7 +48,7 @@ __all__ = [
 
 DEFAULT_TOLERANCE = 5e-3
 """Residual the automatic harmonic count reaches.  On the study case the mesh forces then
-lie within about 0.5 % of the largest (the error runs at 0.4-0.9 times the residual
+lie within about 0.5 % of the largest (the error runs at 0.4-0.95 times the residual
 against a time integration), at 32-128 harmonics; 1e-3 costs 128 at most speeds."""
 
 COVER_SHARE = 0.01
