@@ -234,9 +234,21 @@ def _needs_unit(type_text: str) -> bool:
 DOCS_PAGE = re.compile(r"docs/([a-z_]+)\.md")
 
 
+LITERAL = re.compile(r"(``.+?``|`[^`]*`)")
+"""Literal text and interpreted text (roles) inside a description."""
+
+
+def _escape_bars(text: str) -> str:
+    """Absolute values written ``|x|`` read as reStructuredText substitutions: escape
+    every bar outside literal and interpreted text (as conf.py does for docstrings)."""
+    parts = LITERAL.split(text)
+    return "".join(p if k % 2 else p.replace("|", r"\|") for k, p in enumerate(parts))
+
+
 def _rst(lines: list[str]) -> str:
-    """Description lines as one paragraph, docs pages cited by path made links."""
-    text = " ".join(line.strip() for line in lines)
+    """Description lines as one paragraph, bars escaped, docs pages cited by path made
+    links."""
+    text = _escape_bars(" ".join(line.strip() for line in lines))
     return DOCS_PAGE.sub(lambda m: f":doc:`docs/{m.group(1)}.md </{m.group(1)}>`", text)
 
 
@@ -290,7 +302,9 @@ def model_dataclasses() -> set[str]:
 
 def _summary(cls: type) -> str:
     doc = NumpyDocString(cls.__doc__ or "")
-    return " ".join(line.strip() for line in doc["Summary"] + [""] + doc["Extended Summary"])
+    return _escape_bars(
+        " ".join(line.strip() for line in doc["Summary"] + [""] + doc["Extended Summary"])
+    )
 
 
 def _table(table_rows: list[Row]) -> list[str]:
