@@ -269,3 +269,27 @@ def test_rotor_component_rules_name_the_parameter():
         dataclasses.replace(drivetrain, mounts=("x",)).validate()
     with pytest.raises(CaseError, match=r"no disc named 'nope'"):
         drivetrain.disc("nope")
+
+
+def test_shaft_rayleigh_damping_gives_the_proportional_damping_ratios():
+    """A free shaft with C = alpha M + beta K (element by element, so globally): every
+    elastic mode has zeta = alpha / (2 w) + beta w / 2 with w its undamped frequency
+    (Rayleigh damping keeps the undamped shapes; 1e-9 for round-off)."""
+    alpha, beta = 2.0, 1e-5
+    shaft = Shaft(
+        "shaft",
+        (ShaftSection(1.0, 0.05),),
+        young_modulus=2.1e11,
+        shear_modulus=8.1e10,
+        density=7800.0,
+        elements_per_section=6,
+        rayleigh_mass=alpha,
+        rayleigh_stiffness=beta,
+    )
+    model = assemble_drivetrain(RotorCase("free", drivetrain=Drivetrain(shafts=(shaft,))))
+    damped = solve(model.mass, model.stiffness, model.damping, 6, "dense")
+    undamped = solve(model.mass, model.stiffness, 0 * model.damping, 6, "dense")
+    w = np.abs(undamped.eigenvalues)
+    zeta = alpha / (2 * w) + beta * w / 2
+    np.testing.assert_allclose(damped.damping_ratios, zeta, rtol=1e-9)
+    np.testing.assert_allclose(np.abs(damped.eigenvalues), w, rtol=1e-9)  # |lambda| = w

@@ -52,9 +52,11 @@ RIGID_FRACTION = 1e-6
 NULL_SPACE = 1e-12
 """A singular value of K below this fraction of its largest is a rigid-body motion."""
 
-OVERDAMPED = 1e-9
+OVERDAMPED = 1e-6
 """|Im lambda| at most this fraction of |lambda|: a real eigenvalue, an overdamped
-motion (a damped rigid-body rotation), not a mode with a frequency; left out."""
+motion (a damped rigid-body rotation), not a mode with a frequency; left out.  A
+repeated real eigenvalue (the rigid motions of a shaft with mass-proportional damping)
+comes out of the dense solver split by about sqrt(eps) |lambda| into a complex pair."""
 
 
 def solve(
