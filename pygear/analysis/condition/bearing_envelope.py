@@ -95,7 +95,7 @@ def prewhiten(signal: Any, sample_rate: float) -> xr.DataArray:
 def discrete_random_separation(
     signal: Any, sample_rate: float, *, window: int = 4096, delay: int | None = None
 ) -> xr.Dataset:
-    """Discrete-random separation (DRS; Antoni & Randall 2004, MSSP 18, 89-101).
+    """Discrete-random separation (DRS; Antoni & Randall 2004, MSSP 18, 103-117).
 
     The discrete (deterministic) part of a signal, gear mesh harmonics and their
     sidebands, stays coherent with the signal ``delay`` samples earlier; the random part
