@@ -14,13 +14,24 @@ from pathlib import Path
 
 from ..errors import CaseError
 
-__all__ = ["HANDLERS", "add_parsers", "parse_harmonics", "parse_pin_errors", "parse_speeds"]
+__all__ = [
+    "HANDLERS",
+    "add_parsers",
+    "parse_harmonics",
+    "parse_pin_errors",
+    "parse_speeds",
+    "parse_torque",
+]
 
 MAX_COUNT = 100_000
 """Most speeds one sweep computes."""
 
 MAX_HARMONICS = 1024
 """Largest harmonic count --harmonics takes."""
+
+MAX_BRANCH_HARMONICS = 128
+"""Largest harmonic count with --contact-loss: the branch's Jacobian is dense in
+n_mesh (2H + 1) unknowns (1542 for six meshes at 128)."""
 
 
 def add_parsers(commands: argparse._SubParsersAction) -> None:
@@ -56,6 +67,18 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         default=[],
         metavar="PLANET=METRES",
         help="tangential pin position error of a planet, e.g. planetary.planet1=10e-6 (repeatable)",
+    )
+    response.add_argument(
+        "--torque",
+        metavar="T",
+        help="drive torque on the input member [N m], > 0 (default the scene's drive torque)",
+    )
+    response.add_argument(
+        "--contact-loss",
+        action="store_true",
+        help="where the linear sweep separates the teeth, continue the response with the "
+        "backlash flank law in speed through its folds: response_backlash.nc, its figure "
+        "and the jump speeds (harmonics: --harmonics when a number, else 16)",
     )
     response.add_argument(
         "--no-stability", action="store_true", help="skip the Floquet multipliers"
@@ -135,6 +158,33 @@ def parse_pin_errors(items: list[str]) -> dict[str, float]:
     return errors
 
 
+def parse_torque(text: str | None) -> float | None:
+    """``--torque``: a finite number > 0 [N m], or None when not given."""
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise CaseError(f"--torque must be a finite number > 0 [N m] (got {text!r})")
+    return value
+
+
+def _print_jumps(summary: dict, branch) -> None:
+    if branch is None:
+        print("contact loss: no mesh separates in the linear sweep, no branch")
+        return
+    for mesh in summary["jump_up_rpm"]:
+        up, down = summary["jump_up_rpm"][mesh], summary["jump_down_rpm"][mesh]
+        if up or down:
+            ups = ", ".join(f"{v:.1f}" for v in up) or "-"
+            downs = ", ".join(f"{v:.1f}" for v in down) or "-"
+            print(f"{mesh}: up-sweep jumps at {ups} rpm, down-sweep jumps at {downs} rpm")
+    print(f"contact-loss branch: {branch.sizes['point']} points, "
+          f"{branch.attrs['harmonics']} harmonics, {branch.attrs['wall_s']:.1f} s")  # fmt: skip
+
+
 def _print_table(response, summary: dict) -> None:
     attrs = response.attrs
     speeds = response.speed.values
@@ -166,6 +216,10 @@ def _response(args: argparse.Namespace) -> int:
     harmonics = parse_harmonics(args.harmonics)
     tolerance = _tolerance(args.tolerance)
     pin_errors = parse_pin_errors(args.pin_error)
+    torque = parse_torque(args.torque)
+    if args.contact_loss and harmonics != "auto" and not 1 <= harmonics <= MAX_BRANCH_HARMONICS:
+        raise CaseError(f"--harmonics must be auto or 1-{MAX_BRANCH_HARMONICS} with "
+                        f"--contact-loss (got {args.harmonics!r})")  # fmt: skip
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise CaseError(f"--out {str(args.out)!r} is a file: response writes into a directory")
     from ..model.case import load_case  # NumPy and the model load only when the command runs
@@ -175,28 +229,35 @@ def _response(args: argparse.Namespace) -> int:
 
     import numpy as np
 
-    from ..analysis.response import forced_response, response_summary
+    from ..analysis.response import contact_loss_response, forced_response, response_summary
     from ..runs.json_output import json_text
     from ..runs.progress import ProgressBar
     from ..runs.response_outputs import write_response
 
-    response = forced_response(
-        case,
-        np.linspace(start, stop, count),
+    options = dict(
         scene=scene,
         harmonics=harmonics,
         tolerance=tolerance,
         stability=not args.no_stability,
         pin_errors=pin_errors or None,
+        torque=torque,
         progress=ProgressBar("response", enabled=not args.json),
     )
+    speeds = np.linspace(start, stop, count)
+    branch = None
+    if args.contact_loss:
+        response, branch = contact_loss_response(case, speeds, **options)
+    else:
+        response = forced_response(case, speeds, **options)
     out = args.out or Path("out") / case.name
-    paths = write_response(case, response, out, figures=not args.no_figures)
-    summary = response_summary(response)
+    paths = write_response(case, response, out, figures=not args.no_figures, branch=branch)
+    summary = response_summary(response, branch, contact_loss=args.contact_loss)
     if args.json:
         print(json_text({**summary, "files": [str(p) for p in paths]}))
         return 0
     _print_table(response, summary)
+    if args.contact_loss:
+        _print_jumps(summary, branch)
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0
 

@@ -6,7 +6,10 @@
   mesh mode shaded: subcritical N <= 0.85, main resonance 0.85 < N <= 1.15,
   intermediate 1.15 < N < 1.5, supercritical N >= 1.5;
 - :func:`plot_load_sharing`: K_gamma of every planetary stage (mean and peak forces);
-- :func:`plot_stability`: the largest Floquet multiplier modulus, unstable speeds shaded.
+- :func:`plot_stability`: the largest Floquet multiplier modulus, unstable speeds shaded;
+- :func:`plot_contact_loss`: the contact-loss branch (peak-to-peak DTE of every mesh
+  along it, stable solid, unstable dashed), the linear response faint, and the jump
+  speeds of up and down sweeps.
 """
 
 from __future__ import annotations
@@ -17,7 +20,13 @@ from matplotlib.figure import Figure
 
 from .layout import new_figure, result_title
 
-__all__ = ["ISO_RANGES", "plot_dynamic_factor", "plot_load_sharing", "plot_stability"]
+__all__ = [
+    "ISO_RANGES",
+    "plot_contact_loss",
+    "plot_dynamic_factor",
+    "plot_load_sharing",
+    "plot_stability",
+]
 
 DPI = 130
 """Resolution the figures are drawn at [pixels per inch]; save them at the same."""
@@ -160,4 +169,58 @@ def plot_stability(response: xr.Dataset) -> Figure:
     axes.set_ylabel("largest |Floquet multiplier| [-]")
     figure.suptitle(f"Stability of the periodic steady state\n{result_title(response.attrs)}",
                     fontsize=9)  # fmt: skip
+    return figure
+
+
+def plot_contact_loss(branch: xr.Dataset, linear: xr.Dataset | None = None) -> Figure:
+    """Peak-to-peak DTE of every mesh along the contact-loss branch against speed.
+
+    Stable points are joined by solid lines, unstable ones by dashed lines (no flag
+    computed: solid, and the title says so); the up-sweep jumps are marked by red
+    upward-pointing and the down-sweep jumps by blue downward-pointing triangles on
+    vertical lines.  ``linear`` (the linear sweep) is drawn faint and dotted.
+
+    Parameters
+    ----------
+    branch : xarray.Dataset
+        A :func:`pygear.analysis.response.continue_response` result.
+    linear : xarray.Dataset, optional
+        The linear sweep over the same range.
+    """
+    figure = new_figure(8.0, 4.6, DPI)
+    axes = figure.add_axes((0.09, 0.12, 0.66, 0.72))
+    speed = branch.speed.values
+    stable = branch.stable.values > 0 if "stable" in branch else np.ones(speed.size, bool)
+    # a segment joins two points and takes the stability of both (either unstable: dashed)
+    both = stable[:-1] & stable[1:]
+    for i, mesh in enumerate(branch.mesh.values):
+        value = branch.dte_peak_to_peak.values[:, i] * 1e6
+        solid = np.where(np.r_[both, False] | np.r_[False, both], value, np.nan)
+        dashed = np.where(np.r_[~both, False] | np.r_[False, ~both], value, np.nan)
+        line = axes.plot(speed, solid, lw=1.1, label=f"{mesh} (stable)")[0]
+        axes.plot(speed, dashed, lw=0.9, ls="--", color=line.get_color(),
+                  label=f"{mesh} (unstable)" if (~both).any() else None)  # fmt: skip
+        if linear is not None and str(mesh) in [str(m) for m in linear.mesh.values]:
+            axes.plot(linear.speed.values, linear.dte_peak_to_peak.sel(mesh=mesh).values * 1e6,
+                      lw=0.6, ls=":", color=line.get_color(), alpha=0.6)  # fmt: skip
+    for key, colour, marker, label in (("up_sweep_jumps", "tab:red", "^", "up-sweep jump"),
+                                       ("down_sweep_jumps", "tab:blue", "v",
+                                        "down-sweep jump")):  # fmt: skip
+        for k, where in enumerate(np.atleast_1d(branch.attrs.get(key, []))):
+            axes.axvline(float(where), color=colour, lw=0.7, alpha=0.7)
+            axes.plot([float(where)], [1.0], marker, color=colour, ms=7, clip_on=False,
+                      transform=axes.get_xaxis_transform(),
+                      label=f"{label} {float(where):.1f} rpm" if k < 4 else None)  # fmt: skip
+    low, high = float(np.min(speed)), float(np.max(speed))
+    if high > low:
+        axes.set_xlim(low, high)
+    axes.set_xlabel(f"{branch.attrs.get('input', 'input')} speed [rpm]")
+    axes.set_ylabel("DTE peak to peak [um]")
+    axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    note = "" if "stable" in branch else " (stability not computed)"
+    figure.suptitle(
+        f"Contact loss with backlash: branch in speed{note}; dotted: linear response\n"
+        f"{result_title(branch.attrs)}",
+        fontsize=9,
+    )
     return figure

@@ -1,4 +1,5 @@
-"""The files of ``pygear response``: ``response.nc`` written atomically, and its figures."""
+"""The files of ``pygear response``: ``response.nc`` written atomically, and its figures;
+with contact loss also ``response_backlash.nc`` (the branch) and its figure."""
 
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ def write_response(
     *,
     figures: bool = True,
     stem: str = "response",
+    branch: xr.Dataset | None = None,
 ) -> list[Path]:
     """Write ``<stem>.nc`` (and its figures) into ``directory``.
 
@@ -39,6 +41,9 @@ def write_response(
         Also draw the dynamic factor, load sharing and stability figures.
     stem : str
         File name without suffix.
+    branch : xarray.Dataset, optional
+        The contact-loss branch (:func:`pygear.analysis.response.contact_loss_response`):
+        written as ``<stem>_backlash.nc`` with the figure ``<stem>_backlash.png``.
 
     Returns
     -------
@@ -56,6 +61,17 @@ def write_response(
             case_json=case_json(case),
         )
     ]
+    if branch is not None:
+        paths.append(
+            write_netcdf(
+                branch,
+                directory / f"{stem}_backlash.nc",
+                title=f"Periodic steady state of {case.name} with contact loss, continued "
+                "in speed (AFT harmonic balance)",
+                input_hash=case.input_hash(),
+                case_json=case_json(case),
+            )
+        )
     if figures:
         from ..plots.response import (
             DPI,
@@ -68,4 +84,11 @@ def write_response(
         for name, draw in zip(FIGURES, drawings):
             path = directory / f"{stem}_{name}.png"
             paths.append(save_figure(draw(response), path, dpi=DPI, release=True))
+        if branch is not None:
+            from ..plots.response import plot_contact_loss
+
+            path = directory / f"{stem}_backlash.png"
+            paths.append(
+                save_figure(plot_contact_loss(branch, response), path, dpi=DPI, release=True)
+            )
     return paths

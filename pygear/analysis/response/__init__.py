@@ -5,24 +5,41 @@
 - :mod:`.hill`: harmonic balance (Hill's method), its sparse block matrix and the mesh
   signals rebuilt from a solution;
 - :mod:`.floquet`: Floquet multipliers from the monodromy matrix;
-- :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``.
+- :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``;
+- :mod:`.nonlinear` and :mod:`.continuation`: contact loss with backlash, continued in
+  speed through the folds.
 """
 
+from .continuation import continue_response, separated_response
 from .floquet import floquet_multipliers, system_multipliers
 from .hill import HillSolution, harmonic_balance, hill_matrix, mesh_signals, solve_hill
-from .sweep import forced_response, response_summary, sweep_system
+from .nonlinear import BacklashLaw, case_law, oscillator_system
+from .sweep import (
+    branch_jumps,
+    contact_loss_response,
+    forced_response,
+    response_summary,
+    sweep_system,
+)
 from .system import ResponseSystem, response_system
 
 __all__ = [
+    "BacklashLaw",
     "HillSolution",
     "ResponseSystem",
+    "branch_jumps",
+    "case_law",
+    "contact_loss_response",
+    "continue_response",
     "floquet_multipliers",
     "forced_response",
     "harmonic_balance",
     "hill_matrix",
     "mesh_signals",
+    "oscillator_system",
     "response_summary",
     "response_system",
+    "separated_response",
     "solve_hill",
     "sweep_system",
     "system_multipliers",

@@ -39,12 +39,20 @@ from .hill import AUTO_HARMONICS, HillSolution, fourier_coefficients, harmonic_b
 from .system import ResponseSystem, response_system
 
 __all__ = [
+    "BRANCH_HARMONICS",
     "COVER_SHARE",
     "DEFAULT_TOLERANCE",
+    "branch_jumps",
+    "contact_loss_response",
     "forced_response",
     "response_summary",
     "sweep_system",
 ]
+
+BRANCH_HARMONICS = 16
+"""Harmonics of the contact-loss branch when the linear sweep chose its own count: the
+branch's Jacobian is dense in n_mesh (2H + 1) unknowns, and 16 place the folds of the
+spur pair and the study case (docs: response_nonlinear)."""
 
 DEFAULT_TOLERANCE = 5e-3
 """Residual the automatic harmonic count reaches.  On the study case the mesh forces then
@@ -80,6 +88,7 @@ def forced_response(
     stability: bool = True,
     time_varying: bool = True,
     pin_errors: dict[str, float] | None = None,
+    torque: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> xr.Dataset:
     """Periodic steady state of a case at each constant input speed.
@@ -104,6 +113,8 @@ def forced_response(
         False holds every mesh at its mean stiffness (a linear frequency response).
     pin_errors : dict, optional
         Tangential planet pin errors [m] by planet (:func:`.response_system`).
+    torque : float, optional
+        Drive torque on the input member [N m]; default the scene's drive torque.
     progress : callable, optional
         Called with (done, total) after each speed.
 
@@ -112,10 +123,10 @@ def forced_response(
     xarray.Dataset
         Over ``speed``, ``mesh``, ``harmonic``, ``stage``, ``bearing`` and ``mode``.
     """
-    speeds = np.asarray(speeds_rpm, dtype=np.float64).reshape(-1)
-    if speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds > 0)):
-        raise CaseError("--speeds: speeds must be finite and > 0 rpm")
-    system = response_system(case, scene, time_varying=time_varying, pin_errors=pin_errors)
+    speeds = _checked_speeds(speeds_rpm)
+    system = response_system(
+        case, scene, time_varying=time_varying, pin_errors=pin_errors, torque=torque
+    )
     return sweep_system(
         system,
         speeds,
@@ -125,6 +136,93 @@ def forced_response(
         stability=stability,
         progress=progress,
     )
+
+
+def _checked_speeds(speeds_rpm: np.ndarray) -> np.ndarray:
+    speeds = np.asarray(speeds_rpm, dtype=np.float64).reshape(-1)
+    if speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds > 0)):
+        raise CaseError("--speeds: speeds must be finite and > 0 rpm")
+    return speeds
+
+
+def contact_loss_response(
+    case: Case,
+    speeds_rpm: np.ndarray,
+    *,
+    scene: Scene | None = None,
+    harmonics: int | str = "auto",
+    tolerance: float = DEFAULT_TOLERANCE,
+    stability: bool = True,
+    pin_errors: dict[str, float] | None = None,
+    torque: float | None = None,
+    branch_harmonics: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[xr.Dataset, xr.Dataset | None]:
+    """The linear sweep, then the contact-loss branch over its range where it separates.
+
+    The linear sweep is :func:`forced_response`'s; where it flags tooth separation the
+    branch with the kernel's flank law (:func:`.nonlinear.case_law`, the normal backlash
+    of every mesh) is continued in speed over the sweep's range
+    (:func:`.continuation.separated_response`), through every fold.
+
+    Parameters
+    ----------
+    case, speeds_rpm, scene, harmonics, tolerance, stability, pin_errors, torque, progress
+        As :func:`forced_response`; the torque matters now (the response is no longer
+        linear in it).
+    branch_harmonics : int, optional
+        Harmonics of the branch; default ``harmonics`` when it is a number, else
+        :data:`BRANCH_HARMONICS`.
+
+    Returns
+    -------
+    (xarray.Dataset, xarray.Dataset or None)
+        The linear sweep and the branch (:func:`.continuation.continue_response`), None
+        when no mesh separates.
+
+    Raises
+    ------
+    CaseError
+        A mesh without backlash, or no static mesh load.
+    """
+    from .continuation import separated_response
+    from .nonlinear import case_law
+
+    speeds = _checked_speeds(speeds_rpm)
+    if branch_harmonics is None:
+        branch_harmonics = harmonics if isinstance(harmonics, int) else BRANCH_HARMONICS
+    if not (isinstance(branch_harmonics, int) and branch_harmonics >= 1):
+        raise CaseError(f"--harmonics must be >= 1 for contact loss (got {branch_harmonics!r})")
+    system = response_system(case, scene, pin_errors=pin_errors, torque=torque)
+    law = case_law(case, system, scene)  # refuses a mesh without backlash before any work
+    linear = sweep_system(system, speeds, harmonics=harmonics, tolerance=tolerance,
+                          stability=stability, progress=progress)  # fmt: skip
+    branch = separated_response(
+        system, linear, law, harmonics=branch_harmonics, stability=stability
+    )
+    return linear, branch
+
+
+def branch_jumps(branch: xr.Dataset | None, meshes: list[str]) -> dict[str, dict[str, list]]:
+    """Jump speeds [rpm] of every mesh: ``{"up": [...], "down": [...]}`` by mesh.
+
+    A fold belongs to the meshes whose drive flanks part at it (at the point before the
+    fold or after it); with no branch every list is empty.
+    """
+    jumps: dict[str, dict[str, list]] = {m: {"up": [], "down": []} for m in meshes}
+    if branch is None:
+        return jumps
+    turning = branch["turning"].values
+    separation = branch["separation"].values
+    names = [str(m) for m in branch.mesh.values]
+    for kind, key in ((1, "up"), (-1, "down")):
+        speeds = np.atleast_1d(branch.attrs[f"{key}_sweep_jumps"])
+        for index, speed in zip(np.flatnonzero(turning == kind), speeds):
+            near = separation[index : index + 2].any(axis=0)
+            for m, name in enumerate(names):
+                if near[m] and name in jumps:
+                    jumps[name][key].append(float(speed))
+    return jumps
 
 
 def _cover_frequency(system: ResponseSystem) -> float:
@@ -358,8 +456,11 @@ def _dataset(
     return xr.Dataset(data, coords, attrs)
 
 
-def response_summary(dataset: xr.Dataset) -> dict:
-    """The numbers ``pygear response --json`` prints."""
+def response_summary(
+    dataset: xr.Dataset, branch: xr.Dataset | None = None, *, contact_loss: bool = False
+) -> dict:
+    """The numbers ``pygear response --json`` prints; with ``contact_loss`` also
+    ``jump_up_rpm`` and ``jump_down_rpm`` by mesh (:func:`branch_jumps` of ``branch``)."""
     meshes = [str(m) for m in dataset.mesh.values]
     stages = [str(s) for s in dataset.stage.values]
     summary = {
@@ -377,4 +478,8 @@ def response_summary(dataset: xr.Dataset) -> dict:
         "harmonics": [int(v) for v in dataset.harmonics.values],
         "residual": dataset.residual.values.tolist(),
     }  # fmt: skip
+    if contact_loss:
+        jumps = branch_jumps(branch, meshes)
+        summary["jump_up_rpm"] = {m: jumps[m]["up"] for m in meshes}
+        summary["jump_down_rpm"] = {m: jumps[m]["down"] for m in meshes}
     return summary
