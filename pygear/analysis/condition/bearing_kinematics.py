@@ -7,7 +7,7 @@ Randall & Antoni 2011, eq. 1-4)
 
     f_c = ((1 - gamma) f_i + (1 + gamma) f_o) / 2,
 
-and with the relative ring speed f_r = |f_i - f_o|:
+and with the relative ring speed f_r = |f_i - f_o|::
 
     FTF  = |f_c - f_o| = (1/2) f_r (1 - gamma)        cage rate relative to the outer ring
     BPFO = Z |f_c - f_o| = (Z/2) f_r (1 - gamma)       elements passing an outer-race point
