@@ -110,3 +110,29 @@ def test_bpfo_without_bearing_envelope_is_refused(tmp_path, capsys):
     path = _run(tmp_path / "run.nc", stored=False)
     assert main(["analyze", str(path), "--bpfo", "90"]) == 2
     assert "--bearing-envelope" in capsys.readouterr().err
+
+
+def test_analysis_references_of_a_real_case_carry_its_planet_bearings():
+    from pygear.model.case import load_case
+    from pygear.runs.outputs import analysis_references
+    from pygear.runs.scene_runner import scene_model_for
+
+    case = load_case("yang2016_planetary")
+    _, model = scene_model_for(case, case.scenes[0])
+    planet = RollingBearing("PL", "roller", elements=14, pitch_diameter=0.05,
+                            element_diameter=0.006, roller_length=0.01,
+                            location="planetary.planet")  # fmt: skip
+    # the attribute the writer reads (rolling_bearings_of), on the case as loaded
+    object.__setattr__(case, "rolling_bearings", (planet,))
+    bodies = ["planetary.carrier", "planetary.ring", "planetary.sun", "planetary.planet1"]
+    run = xr.Dataset(
+        {"equilibrium_speed": ("body", [100.0, 0.0, 400.0, -300.0], {"units": "rpm"})},
+        coords={"body": ("body", bodies)},
+    )
+    references = analysis_references(case, model, run)
+    assert "mesh_frequency" in references and "natural_frequency" in references
+    gamma = 0.006 / 0.05
+    # the planet turns 300 rpm = 5 Hz on its pin, relative to the carrier (its theta_z)
+    bpfo = float(references.bearing_frequency.sel(bearing="PL", bearing_line="BPFO"))
+    assert bpfo == pytest.approx(14 / 2 * 5.0 * (1 - gamma), rel=1e-12)
+    assert float(references.bearing_carrier_frequency.sel(bearing="PL")) == pytest.approx(100 / 60)
