@@ -136,3 +136,15 @@ def test_analysis_references_of_a_real_case_carry_its_planet_bearings():
     bpfo = float(references.bearing_frequency.sel(bearing="PL", bearing_line="BPFO"))
     assert bpfo == pytest.approx(14 / 2 * 5.0 * (1 - gamma), rel=1e-12)
     assert float(references.bearing_carrier_frequency.sel(bearing="PL")) == pytest.approx(100 / 60)
+
+
+def test_a_run_whose_bearings_stand_still_is_refused_in_one_line(tmp_path, capsys):
+    path = _run(tmp_path / "run.nc", stored=False)
+    with xr.open_dataset(path) as opened:
+        run = opened.load()
+    run["equilibrium_speed"][:] = 0.0
+    stored = run.merge(bearing_references(SimpleNamespace(rolling_bearings=(BEARING,)), run))
+    stored.to_netcdf(tmp_path / "still.nc")
+    assert main(["analyze", str(tmp_path / "still.nc"), "--bearing-envelope"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "none of its rolling bearings turns" in err and len(err.splitlines()) == 1

@@ -49,11 +49,18 @@ def bearing_lines(run, args: argparse.Namespace) -> tuple[dict, dict]:
     lines, modulation = {}, {}
     for bearing in stored:
         for line in SEARCHED:
+            if not bearing.lines[line] > 0:  # a bearing that does not turn in this run
+                continue
             label = f"{bearing.name}:{line}"
             lines[label] = bearing.lines[line]
             # a defect standing in the load zone of a planet bearing is still carried
             # past the sensor by the carrier
             modulation[label] = bearing.modulation[line] or bearing.carrier
+    if not lines:
+        raise CaseError(
+            f"RUN.nc {str(args.run)!r}: none of its rolling bearings turns at the run's "
+            "equilibrium speeds (all bearing frequencies are 0): give --bpfo and/or --bpfi"
+        )
     return lines, modulation
 
 
