@@ -204,7 +204,7 @@ def _helper_pids() -> dict[str, int | None]:
     return found
 
 
-def _stop_helpers(running_before: dict[str, int | None]) -> None:
+def _stop_helpers(running_before: dict[str, int | None], tracker: bool = True) -> None:
     """Stop the fork server and resource tracker the local workers started.
 
     Both are children of this process that live until it exits (the tracker ends only
@@ -213,6 +213,11 @@ def _stop_helpers(running_before: dict[str, int | None]) -> None:
     The fork server is killed rather than asked: its workers are gone and it holds
     nothing, and its orderly exit (unloading the modules it imported) took 0.3 s.
     Helpers that were running before the cluster started are left alone.
+
+    ``tracker=False`` (after a Ctrl-C) leaves the resource tracker to end with this
+    process: a cluster interrupted while it started may still hold semaphores, which a
+    tracker stopped now would report as leaked and unlink under their owners' feet (a
+    warning and a traceback each at exit); it ends, quietly, once this process has.
     """
     now = _helper_pids()
     for module, attribute in (
@@ -220,6 +225,8 @@ def _stop_helpers(running_before: dict[str, int | None]) -> None:
         ("multiprocessing.resource_tracker", "_resource_tracker"),
     ):
         if running_before.get(module) is not None or now.get(module) is None:
+            continue
+        if module == "multiprocessing.resource_tracker" and not tracker:
             continue
         if module == "multiprocessing.forkserver":
             with contextlib.suppress(ProcessLookupError):
@@ -256,11 +263,11 @@ def _sigint_blocked() -> Iterator[None]:
     if not hasattr(signal, "pthread_sigmask"):
         yield
         return
-    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)  # nested: stays blocked
 
 
 @contextlib.contextmanager
@@ -290,11 +297,15 @@ def local_worker_server(local: bool = True) -> Iterator[None]:
         yield
         return
     running_before = _helper_pids()
+    interrupted = False
     try:
         _start_fork_server()
         yield
+    except KeyboardInterrupt:
+        interrupted = True
+        raise
     finally:
-        _stop_helpers(running_before)
+        _stop_helpers(running_before, tracker=not interrupted)
 
 
 @contextlib.contextmanager
@@ -324,7 +335,13 @@ def dask_client(
     distributed = _distributed()
     started = client = None
     helpers = _helper_pids()
+    interrupted: list[bool] = []
     with contextlib.ExitStack() as stack:
+        if scheduler is None and cluster is None and processes:
+            # the fork server first: starting multiprocessing's helpers unblocks SIGINT;
+            # stopped last, after the cluster closed
+            stack.callback(lambda: _stop_helpers(helpers, tracker=not interrupted))
+            stack.enter_context(_forked_workers())
         try:
             # a Ctrl-C while the cluster starts waits until it can be closed again
             with _sigint_blocked():
@@ -337,9 +354,6 @@ def dask_client(
                     else:
                         started.scale(n=workers)
                 else:
-                    if processes:
-                        stack.callback(_stop_helpers, helpers)  # last: after the cluster closed
-                        stack.enter_context(_forked_workers())
                     started = target = distributed.LocalCluster(
                         n_workers=workers,
                         threads_per_worker=1,
@@ -355,6 +369,7 @@ def dask_client(
                     ) from None
             yield client
         except KeyboardInterrupt:
+            interrupted.append(True)
             _quiet_dask()  # the cluster closes below: its complaints are no news
             if started is not None and client is not None:
                 with contextlib.suppress(Exception):  # the workers say nothing either
