@@ -69,6 +69,11 @@ def drivetrain_transient_model(case: Case, scene: Scene | SceneSettings | None =
     CaseError
         The scene asks for speed-dependent terms (not yet carried by drivetrains).
     """
+    if case.drivetrain.gearbox is None:
+        raise CaseError(
+            f"case {case.name!r} is a plain rotor (no gearbox): its scenes do not run; "
+            "use pygear modal --speed, pygear campbell or pygear frf"
+        )
     settings = scene_settings(scene)
     if settings is not None:
         asked = [e for e in settings.effects if any(word in e for word in _SPEED_EFFECTS)]

@@ -29,12 +29,15 @@ class RotorCase(Case):
         No gearbox; must stay None.
     drivetrain : Drivetrain
         The shafts, discs, bearings and couplings; its ``gearbox`` is None.
+    scenes : tuple of Scene
+        None by default: a rotor's analyses are commands (``pygear modal --speed``,
+        ``pygear campbell``, ``pygear frf``), not scenes; ``pygear run`` refuses one.
     """
 
     gearbox: None = None
     formulation: str = "consistent"
     damping: RayleighDamping = dataclasses.field(default_factory=RayleighDamping)
-    scenes: tuple[Scene, ...] = (Scene("modal"),)
+    scenes: tuple[Scene, ...] = ()
     drivetrain: Drivetrain | None = None
 
     def validate(self) -> None:
