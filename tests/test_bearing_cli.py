@@ -84,11 +84,14 @@ def test_bearing_envelope_lists_the_stored_lines_with_snr(tmp_path, capsys):
     assert "DE:BPFO" in text and "yes" in text
 
 
-def test_given_bpfo_serves_a_file_without_stored_frequencies(tmp_path, capsys):
+@pytest.mark.parametrize("drs", [[], ["--drs"]])
+def test_given_bpfo_serves_a_file_without_stored_frequencies(tmp_path, capsys, drs):
     path = _run(tmp_path / "run.nc", stored=False)
     argv = ["analyze", str(path), "--bearing-envelope", "--bpfo", str(3.5848 * 25.0), "--json"]
-    assert main(argv) == 0
-    rows = json.loads(capsys.readouterr().out)["lines"]
+    assert main([*argv, *drs]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["discrete_random_separation"] == bool(drs)
+    rows = result["lines"]
     assert rows[0]["line"] == "BPFO" and rows[0]["detected"]
 
 
@@ -106,10 +109,11 @@ def test_bearing_envelope_refusals_are_one_line_exit_2(tmp_path, capsys, extra, 
     assert message in err and len(err.splitlines()) == 1
 
 
-def test_bpfo_without_bearing_envelope_is_refused(tmp_path, capsys):
+@pytest.mark.parametrize("flag", [["--bpfo", "90"], ["--drs"]])
+def test_bearing_flags_without_bearing_envelope_are_refused(tmp_path, capsys, flag):
     path = _run(tmp_path / "run.nc", stored=False)
-    assert main(["analyze", str(path), "--bpfo", "90"]) == 2
-    assert "--bearing-envelope" in capsys.readouterr().err
+    assert main(["analyze", str(path), *flag]) == 2
+    assert "ask for the bearing envelope with --bearing-envelope" in capsys.readouterr().err
 
 
 def test_analysis_references_of_a_real_case_carry_its_planet_bearings():

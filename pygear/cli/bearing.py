@@ -93,7 +93,7 @@ def analyze_bearing_envelope(args: argparse.Namespace) -> int:
     series = channel_series(run, channel)
     values = np.asarray(series.values[series["time"].values >= after], dtype=float)
     spectrum, found = bearing_envelope_analysis(
-        values, rate, lines, modulation=modulation, band=band
+        values, rate, lines, modulation=modulation, band=band, separate=args.drs
     )
     rows = []
     for label in found.line.values:
@@ -128,6 +128,7 @@ def analyze_bearing_envelope(args: argparse.Namespace) -> int:
         "band_hz": [found.attrs["band_low"], found.attrs["band_high"]],
         "band_kurtosis": spectrum.attrs["band_kurtosis"],
         "prewhitened": True,
+        "discrete_random_separation": bool(args.drs),
         "threshold_db": found.attrs["threshold_db"],
         "bin_width_hz": found.attrs["bin_width"],
         "lines": rows,
@@ -136,7 +137,8 @@ def analyze_bearing_envelope(args: argparse.Namespace) -> int:
         print(json_text(summary))
         return 0
     low, high = summary["band_hz"]
-    print(f"bearing envelope of {channel}: pre-whitened, band {low:.0f} .. {high:.0f} Hz, "
+    steps = "discrete-random separated, pre-whitened" if args.drs else "pre-whitened"
+    print(f"bearing envelope of {channel}: {steps}, band {low:.0f} .. {high:.0f} Hz, "
           f"lines above {summary['threshold_db']:g} dB")  # fmt: skip
     print(f"{'line':<24} {'expected Hz':>11} {'found Hz':>9} {'SNR dB':>7} {'x2 dB':>6} "
           f"{'x3 dB':>6}  detected")  # fmt: skip

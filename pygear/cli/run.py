@@ -136,6 +136,12 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         help="--bpfi: shaft rate whose sidebands about BPFI are looked for [Hz]",
     )
     analyze.add_argument(
+        "--drs",
+        action="store_true",
+        help="--bearing-envelope: remove the gears' discrete components by discrete-random "
+        "separation before the pre-whitening",
+    )
+    analyze.add_argument(
         "--window-revolutions",
         type=float,
         default=1.0,
@@ -186,8 +192,10 @@ def _analyze(args: argparse.Namespace) -> int:
         from .bearing import analyze_bearing_envelope
 
         return analyze_bearing_envelope(args)
-    if args.bpfo is not None or args.bpfi is not None:
-        raise CaseError("--bpfo/--bpfi: ask for the bearing envelope with --bearing-envelope")
+    if args.bpfo is not None or args.bpfi is not None or args.drs:
+        raise CaseError(
+            "--bpfo/--bpfi/--drs: ask for the bearing envelope with --bearing-envelope"
+        )
     if args.indicators:
         raise CaseError("--indicators: name the gear to average with --tsa GEAR")
     if args.out is not None and args.out.suffix.lower() in (".nc", ".png"):
