@@ -190,6 +190,9 @@ class Case:
     drivetrain : Drivetrain or None
         Shafts, bearings, couplings, rotor and generator around the gearbox
         (docs/drivetrain.md); its ``gearbox`` must be this case's gearbox.
+    rolling_bearings : tuple of RollingBearing
+        Rolling-element bearings by geometry (docs/bearings.md): their characteristic
+        frequencies are stored in every run file, so ``pygear analyze`` labels them.
     """
 
     name: str
@@ -201,10 +204,11 @@ class Case:
     defects: tuple[ToothDefect, ...] = ()
     sensors: tuple[Sensor, ...] = ()
     drivetrain: Drivetrain | None = None
+    rolling_bearings: tuple = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))
-        for name in ("defects", "sensors"):
+        for name in ("defects", "sensors", "rolling_bearings"):
             if isinstance(getattr(self, name), list):
                 object.__setattr__(self, name, tuple(getattr(self, name)))
         plain_numbers(self)  # np.float32(0.4) is stored, hashed and computed as 0.4
@@ -225,6 +229,10 @@ class Case:
             raise CaseError(f"scenes: scene names must be unique (got {names})")
         validate_defects(self.gearbox, self.defects, "defects")
         validate_sensors(self.sensors, {s.name: s for s in self.gearbox.stages})
+        from .rolling_bearing import rolling_bearings_of
+
+        for n, bearing in enumerate(rolling_bearings_of(self)):
+            bearing.validate(f"rolling_bearings[{n}]")
         if self.drivetrain is not None:
             if not isinstance(self.drivetrain, Drivetrain):
                 raise CaseError(f"drivetrain must be a Drivetrain (got {self.drivetrain!r})")
