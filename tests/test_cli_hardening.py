@@ -364,3 +364,32 @@ def test_a_busy_dashboard_port_gives_no_warning():
         assert not [w for w in caught if "8787" in str(w.message)], caught
     finally:
         holder.close()
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["run", "yang2016_planetary", "--scene", "modal"],
+        ["rate", "nrel5mw_gearbox"],
+        ["contact", "yang2016_planetary", "--mesh", "planetary.sun-planet1", "--torque", "100"],
+    ],
+)
+def test_out_of_a_file_is_refused_before_any_work_for_every_directory_command(
+    command, tmp_path, capsys
+):
+    # an existing file, and a name with a file's suffix, where a command writes a directory
+    existing = tmp_path / "taken"
+    existing.write_text("keep me")
+    for out in (existing, tmp_path / "y.nc"):
+        assert main([*command, "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and "--out" in err
+    assert existing.read_text() == "keep me"
+    assert not (tmp_path / "y.nc").exists()
+
+
+def test_mesh_stiffness_out_of_a_directory_is_refused(tmp_path, capsys):
+    folder = tmp_path / "m.nc"
+    folder.mkdir()
+    assert main(["mesh-stiffness", "yang2016_planetary", "--out", str(folder)]) == 2
+    assert "is a directory" in capsys.readouterr().err

@@ -66,6 +66,9 @@ def _contact(args: argparse.Namespace) -> int:
                                      ("--cycles", args.cycles, 1, 10_000)):  # fmt: skip
         if not low <= value <= high:
             raise CaseError(f"{option} must be a whole number in [{low}, {high}] (got {value})")
+    from ..runs.plan_checks import check_out_dir
+
+    check_out_dir("--out", args.out, "contact")
     torques = parse_torques(args.torque, args.torques)
     case = load_case(args.case)
     if args.scene is not None:

@@ -45,8 +45,10 @@ def _rate(args: argparse.Namespace) -> int:
     from ..analysis.rating.gearbox_rating import rate_gearbox
     from ..model.rating import load_rating
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_out_dir
     from ..runs.rating_outputs import rating_json, read_duty_cycle, write_rating_outputs
 
+    check_out_dir("--out", args.out, "rate")
     case, rating = load_rating(args.case)
     if args.scene is not None:
         case = case.for_scene(case.scene(args.scene))

@@ -247,6 +247,8 @@ def _mesh_stiffness(args: argparse.Namespace) -> int:
 
     if args.out is not None:
         check_suffix("--out", args.out, ".nc", "the mesh stiffness as NetCDF (figure beside, .png)")
+        if args.out.is_dir():
+            raise CaseError(f"--out {str(args.out)!r} is a directory: name the .nc file to write")
     if not math.isfinite(args.speed) or args.speed == 0:
         raise CaseError(
             f"--speed must be a finite non-zero carrier speed in rpm (got {args.speed})"
@@ -278,12 +280,14 @@ def _run(args: argparse.Namespace) -> int:
     from ..analysis.time.transient import runup_table_text
     from ..model.case import load_case
     from ..runs.json_output import json_text
+    from ..runs.plan_checks import check_out_dir
     from ..runs.scene_checks import check_scenes
     from ..runs.scene_runner import RunOptions, run_scene
 
     every = args.checkpoint_every
     if every is not None and not every > 0:
         raise CaseError(f"--checkpoint-every must be a positive number of seconds (got {every})")
+    check_out_dir("--out", args.out, "run")
     case = load_case(args.case)
     scenes = [case.scene(name) for name in args.scene] if args.scene else list(case.scenes)
     out = args.out or Path("out") / case.name
