@@ -293,3 +293,32 @@ def test_shaft_rayleigh_damping_gives_the_proportional_damping_ratios():
     zeta = alpha / (2 * w) + beta * w / 2
     np.testing.assert_allclose(damped.damping_ratios, zeta, rtol=1e-9)
     np.testing.assert_allclose(np.abs(damped.eigenvalues), w, rtol=1e-9)  # |lambda| = w
+
+
+def test_a_speed_dependent_table_enters_at_the_shaft_speed(friswell):
+    """k_xx = k_yy rising linearly from 1 MN/m at 0 rpm to 2 MN/m at 4000 rpm is, at
+    2000 rpm, the 1.5 MN/m isotropic bearing: the same eigenvalues (1e-10)."""
+    case, _ = friswell
+    table = BearingCoefficients(speeds=(0.0, 4000.0), k_xx=(1e6, 2e6), k_yy=(1e6, 2e6))
+    tabled = dataclasses.replace(
+        case,
+        drivetrain=dataclasses.replace(
+            case.drivetrain,
+            bearings=tuple(
+                dataclasses.replace(b, radial=0.0, coefficients=table)
+                for b in case.drivetrain.bearings
+            ),
+        ),
+    )
+    fixed = dataclasses.replace(
+        case,
+        drivetrain=dataclasses.replace(
+            case.drivetrain,
+            bearings=tuple(dataclasses.replace(b, radial=1.5e6) for b in case.drivetrain.bearings),
+        ),
+    )
+    a = modes_at_speed(assemble_drivetrain(tabled), 2000.0, 8)
+    b = modes_at_speed(assemble_drivetrain(fixed), 2000.0, 8)
+    np.testing.assert_allclose(a.eigenvalues, b.eigenvalues, rtol=1e-10)
+    c = modes_at_speed(assemble_drivetrain(tabled), 0.0, 8)
+    assert np.all(np.abs(c.eigenvalues[:2].imag) < np.abs(b.eigenvalues[:2].imag))  # softer
