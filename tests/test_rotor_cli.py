@@ -66,19 +66,26 @@ def test_jeffcott_critical_speed_is_its_damped_natural_frequency():
 
 
 def test_drivetrain_gyroscopic_terms_follow_each_shaft_speed_ratio():
-    """Each shaft element's G is its own times its shaft's speed ratio: the high-speed
-    shaft's block scaled back by its ratio equals the rotor-speed block of a shaft of
-    the same section (the assembled G is linear in the ratio)."""
+    """Each shaft's and disc's G is its own times its shaft's speed over the rotor's (the
+    gear ratio from the tooth numbers: the high-speed shaft turns at -96.354 x): the
+    assembled G equals, shaft by shaft, the ratio times G assembled with every ratio 1."""
+    from pygear.assembly.drivetrain import build_structure
+
     case = load_case("nrel5mw_drivetrain")
     model = assemble_drivetrain(case, dof_set="spatial")
     ratios = model.speed_ratios
-    assert ratios[case.drivetrain.rotor.at.split(".")[0]] == 1.0
-    fast = max(ratios, key=lambda name: abs(ratios[name]))
-    assert abs(ratios[fast]) > 90  # the high-speed shaft: the gearbox ratio, 96.35
-    # the gyroscopic matrix is skew-symmetric and non-zero on that shaft's nodes
-    rows = [i for i, label in enumerate(model.labels) if label.startswith(f"{fast}_")]
-    block = model.gyroscopic[rows][:, rows].toarray()
-    assert np.abs(block).max() > 0
+    kinematic = (1 + 56 / 19) * (1 + 93 / 18) * (95 / 24)  # Nejad et al.'s tooth numbers
+    assert ratios["high_speed_shaft"] == pytest.approx(-kinematic, rel=1e-9)
+    scaled = build_structure(case.drivetrain, ratios)[0].assemble()
+    plain = build_structure(case.drivetrain, None)[0].assemble()
+    for shaft, ratio in ratios.items():
+        rows = [i for i, label in enumerate(plain.labels) if label.startswith(f"{shaft}_")]
+        own = plain.gyroscopic[rows][:, rows].toarray()
+        assert np.abs(own).max() > 0
+        np.testing.assert_allclose(
+            scaled.gyroscopic[rows][:, rows].toarray(), ratio * own, rtol=1e-12, atol=0
+        )
+    block = model.gyroscopic.toarray()
     np.testing.assert_allclose(block, -block.T, atol=1e-12 * np.abs(block).max())
 
 
