@@ -279,3 +279,46 @@ def test_a_run_stopped_while_its_end_is_written_starts_over_on_resume(study, tmp
         )
     assert sorted(p.name for p in out.iterdir()) == ["runup.nc"]
     _assert_same_file(out / "runup.nc", tmp_path / "whole" / "runup.nc")
+
+
+class _CollectingSink:
+    """A sink that keeps what it is given (a test's view of a streamed kernel run)."""
+
+    def __init__(self, block_samples: int) -> None:
+        self.block_samples = block_samples
+        self.blocks: list = []
+
+    def write(self, first, samples):
+        self.blocks.append((first, samples.copy()))
+
+    def flush(self):
+        pass
+
+    def state(self):
+        return {}
+
+    def restore(self, state, written):
+        pass
+
+
+def test_a_streamed_run_that_grows_physically_is_diagnosed_from_its_last_samples(monkeypatch):
+    """The divergence diagnostic of a streamed run sees its last samples (not the whole
+    record, which it no longer holds) and still names a parametric resonance with the
+    Floquet rate (to 1 %, as tests/test_stability.py asks of the whole record)."""
+    import functools
+
+    import test_stability
+
+    from pygear.kernel.newmark import BandedNewmark, PhysicalInstabilityError
+
+    sink = _CollectingSink(8192)
+    monkeypatch.setattr(BandedNewmark, "run", functools.partialmethod(BandedNewmark.run, sink=sink))
+    mesh_frequency = 2 * test_stability.PARAM_FREQUENCY
+    with pytest.raises(PhysicalInstabilityError, match="grew physically") as error:
+        test_stability.parametric_run(mesh_frequency, 100)
+    rate = test_stability.floquet_growth_rate(mesh_frequency)
+    assert error.value.diagnostic.rate == pytest.approx(rate, rel=0.01)
+    firsts = [first for first, _ in sink.blocks]
+    counts = [block.shape[1] for _, block in sink.blocks]
+    assert firsts == list(np.cumsum([0, *counts[:-1]]))  # every sample once, in order
+    assert max(counts) <= 8192

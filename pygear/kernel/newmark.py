@@ -243,10 +243,21 @@ def _blas_limited(method):
     return limited
 
 
-def _last_samples(tail: np.ndarray | None, fresh: np.ndarray, limit: int) -> np.ndarray:
-    """The last ``limit`` samples of ``tail`` followed by ``fresh``."""
-    joined = fresh.copy() if tail is None else np.concatenate([tail, fresh], axis=1)
-    return joined[:, -limit:]
+def _last_samples(tail: list, fresh: np.ndarray, limit: int) -> list:
+    """``tail`` (blocks of samples, oldest first) with a copy of ``fresh`` added and the
+    oldest blocks dropped while the rest still hold ``limit`` samples (joined only if a
+    run diverges: :func:`_joined`)."""
+    tail.append(fresh.copy())
+    while len(tail) > 1 and sum(b.shape[1] for b in tail[1:]) >= limit:
+        tail.pop(0)
+    return tail
+
+
+def _joined(tail: list, limit: int, rows: int) -> np.ndarray:
+    """The last ``limit`` samples of the blocks in ``tail`` (none yet: no samples)."""
+    if not tail:
+        return np.zeros((rows, 0))
+    return np.concatenate(tail, axis=1)[:, -limit:]
 
 
 class BandedNewmark:
@@ -682,7 +693,7 @@ class BandedNewmark:
         chunk = max(100, min(20000, n_steps // 50 or 1))
         chunk = min(chunk, max_chunk)
         base = written if sink is not None else 0  # the run's sample at samples[:, 0]
-        tail = None  # with a sink: the last samples, for a diverged run's diagnostic
+        tail: list = []  # with a sink: the last samples, for a diverged run's diagnostic
         solver_wall = 0.0
         last_checkpoint = time.perf_counter()
         with deferred_interrupt() as interrupted:
@@ -711,7 +722,11 @@ class BandedNewmark:
                 if ierr:
                     failed_step = int(state["istate"][step_of]) + 1
                     error = self._error(ierr, bad, failed_step, "running")
-                    recorded = samples[: len(probes), :written] if sink is None else tail
+                    recorded = (
+                        samples[: len(probes), :written]
+                        if sink is None
+                        else _joined(tail, max(block, 4096), len(probes))
+                    )
                     raise self._physical_growth(error, ierr, recorded, decimation, probes)
                 chunk = int(max(100, min(10 * chunk, steps * chunk_seconds / max(elapsed, 1e-6))))
                 chunk = min(chunk, max_chunk)
