@@ -25,6 +25,7 @@ from pygear import (
     TorqueLaw,
     Transient,
 )
+from pygear.model.response_settings import Response
 
 # Spur study: the paper fixes the axial and tilting DOFs. Their bending inertias and
 # out-of-plane stiffnesses only matter for a spatial scene. ASSUMED: a thin disc's
@@ -331,6 +332,19 @@ case = Case(
                 "planetary.sun_mesh.backlash": REVERSAL_BACKLASH,
                 "planetary.ring_mesh.backlash": REVERSAL_BACKLASH,
             },
+        ),
+        # periodic steady state over the carrier speed by harmonic balance (`pygear run
+        # yang2016_planetary --scene response`, docs/response.md): K_v, K_gamma, DTE and
+        # Floquet stability from 100 to 1500 rpm under the run-up's 10 N m; a sweep maps
+        # K_gamma over a planet pin error with --param
+        # scene.response.pin_errors.planetary.planet1=...
+        Scene(
+            "response",
+            analyses=("response",),
+            formulation="improved",
+            dof_set="planar",
+            effects=("time_varying_mesh_stiffness",),
+            response=Response(speeds_rpm=(100.0, 1500.0, 200)),
         ),
     ),
 )

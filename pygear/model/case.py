@@ -19,6 +19,7 @@ from .components import ToothDefect, is_finite_number, plain_numbers, require_no
 from .drivetrain import Drivetrain
 from .gearbox import Gearbox
 from .names import DOF_SETS, FORMULATIONS
+from .response_settings import Response
 from .sensors import Sensor, validate_sensors
 from .time_step import check_time_step
 from .tooth_faults import check_fault_on_tooth
@@ -42,7 +43,7 @@ __all__ = [
     "validate_defects",
 ]
 
-ANALYSES = ("modal", "sensitivity", "transient", "signal")
+ANALYSES = ("modal", "sensitivity", "transient", "signal", "response")
 """Analyses a scene may ask for."""
 
 SIGNAL_AFTER = 1.0
@@ -116,6 +117,8 @@ class Scene:
     parameters : mapping of str to value
         Case parameters this scene changes, by path (``planetary.planet_angles_deg``):
         a scene of the same gearbox with, say, a planet position error.
+    response : Response or None
+        Settings of the ``response`` analysis (speeds, harmonics, contact loss).
     """
 
     name: str
@@ -127,6 +130,7 @@ class Scene:
     defects: tuple[ToothDefect, ...] = ()
     transient: Transient | None = None
     parameters: tuple[tuple[str, object], ...] = ()
+    response: Response | None = None
 
     def __post_init__(self) -> None:
         if isinstance(self.defects, list):
@@ -161,6 +165,13 @@ class Scene:
             if not isinstance(self.transient, Transient):
                 raise CaseError(f"{path}.transient must be a Transient (got {self.transient!r})")
             self.transient.validate(f"{path}.transient")
+        if "response" in self.analyses and self.response is None:
+            raise CaseError(f"{path}.response: the response analysis needs its settings, "
+                            "e.g. Response(speeds_rpm=(100.0, 1500.0, 200))")  # fmt: skip
+        if self.response is not None:
+            if not isinstance(self.response, Response):
+                raise CaseError(f"{path}.response must be a Response (got {self.response!r})")
+            self.response.validate(f"{path}.response")
 
 
 @dataclass(frozen=True)

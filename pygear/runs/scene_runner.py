@@ -188,6 +188,23 @@ def _transient(context: _SceneContext) -> tuple[dict, xr.Dataset | None]:
     return {**transient_summary(dataset), "files": [str(p) for p in files]}, dataset
 
 
+def _response(context: _SceneContext) -> tuple[dict, xr.Dataset | None]:
+    """The periodic steady state over the scene's speeds (and its contact-loss branch),
+    written as ``pygear response`` writes it: ``<stem>.nc`` and its figures, the stem
+    being the scene's name when it says ``response``, else ``<scene>_response``."""
+    from ..analysis.response import response_summary, scene_response
+    from .response_outputs import write_response
+
+    scene = context.scene
+    linear, branch = scene_response(context.case, scene)
+    stem = scene.name if "response" in scene.name else f"{scene.name}_response"
+    with task_files():
+        files = write_response(context.case, linear, context.out, figures=context.options.figures,
+                               stem=stem, branch=branch)  # fmt: skip
+    summary = response_summary(linear, branch, contact_loss=scene.response.contact_loss)
+    return {"response": summary, "files": [str(p) for p in files]}, None
+
+
 def _inside_transient(context: _SceneContext) -> tuple[dict, xr.Dataset | None]:
     return {}, None  # 'signal' runs inside the transient's writer, on its dataset
 
@@ -197,6 +214,7 @@ SCENE_ANALYSES: dict[str, Callable[[_SceneContext], tuple[dict, xr.Dataset | Non
     "sensitivity": _sensitivity,
     "transient": _transient,
     "signal": _inside_transient,
+    "response": _response,
 }
 """The writer of each analysis a scene may name: it returns the scene summary's entries
 (``files`` among them) and the dataset a transient leaves for comparisons."""

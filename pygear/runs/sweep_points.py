@@ -121,6 +121,8 @@ class SweepParameter:
         """CF attributes of the parameter's coordinate; ``parameter_path`` is the path."""
         attrs = {"long_name": self.path, "parameter_path": self.path}
         units = _UNITS.get(self.path.rsplit(".", 1)[-1])
+        if self.path.startswith(f"scene.{PIN_ERROR_PREFIX}"):
+            units = "m"
         attrs["units"] = units or "1"
         return attrs
 
@@ -147,12 +149,19 @@ SCENE_PARAMETERS = ("carrier_speed_rpm",)
 """Scene settings a sweep may vary, as ``scene.<name>``: the carrier speed of a modal
 scene's speed-dependent terms."""
 
+PIN_ERROR_PREFIX = "response.pin_errors."
+"""A response scene's planet pin error [m] is swept as ``scene.response.pin_errors.<planet>``
+(``scene.response.pin_errors.planetary.planet1``)."""
+
 
 def _parameter_values(case: Case, path: str, values: object) -> SweepParameter:
     if path.startswith("scene."):
-        if path.removeprefix("scene.") not in SCENE_PARAMETERS:
+        name = path.removeprefix("scene.")
+        pin = name.startswith(PIN_ERROR_PREFIX) and len(name) > len(PIN_ERROR_PREFIX)
+        if name not in SCENE_PARAMETERS and not pin:
             allowed = ", ".join(f"scene.{name}" for name in SCENE_PARAMETERS)
-            raise CaseError(f"--param {path}: the scene settings a sweep varies are {allowed}")
+            raise CaseError(f"--param {path}: the scene settings a sweep varies are {allowed} "
+                            f"and scene.{PIN_ERROR_PREFIX}<planet>")  # fmt: skip
         current: object = 0.0
     else:
         current = get_parameter(case, path)  # names the path when it does not exist
@@ -263,6 +272,11 @@ def _check_scene_parameters(scene: Scene, parsed: Sequence[SweepParameter]) -> N
     for parameter in parsed:
         if not parameter.path.startswith("scene."):
             continue
+        if parameter.path.startswith(f"scene.{PIN_ERROR_PREFIX}"):
+            if "response" not in scene.analyses:
+                raise CaseError(f"--param {parameter.path}: scene {scene.name!r} has no "
+                                "'response' analysis, whose pin errors this sets")  # fmt: skip
+            continue
         if "transient" in scene.analyses:
             raise CaseError(
                 f"--param {parameter.path}: scene {scene.name!r} runs a transient, whose "
@@ -330,6 +344,12 @@ def scene_with(scene: Scene, assignments: Mapping[str, object]) -> Scene:
     }
     if not changes:
         return scene
+    pins = {k.removeprefix(PIN_ERROR_PREFIX): float(v)
+            for k, v in changes.items() if k.startswith(PIN_ERROR_PREFIX)}  # fmt: skip
+    changes = {k: v for k, v in changes.items() if not k.startswith(PIN_ERROR_PREFIX)}
+    if pins and scene.response is not None:
+        errors = {**dict(scene.response.pin_errors), **pins}
+        changes["response"] = dataclasses.replace(scene.response, pin_errors=errors)
     changed = dataclasses.replace(scene, **changes)
     changed.validate(f"scenes.{scene.name}")
     return changed
@@ -382,11 +402,45 @@ def _transient_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
     return result
 
 
+RESPONSE_POINT_VARIABLES = (
+    "dynamic_factor",
+    "dte_rms",
+    "separation",
+    "load_sharing",
+    "load_sharing_peak",
+    "floquet_multiplier",
+    "stable",
+    "harmonics",
+    "residual",
+)
+"""What a sweep point keeps of a response: per speed (and mesh or stage), so the points
+combine by their parameter coordinates while every point shares the scene's speeds."""
+
+
+def _response_point(case: Case, scene: Scene, model: Model) -> xr.Dataset:
+    """The scene's response over its speeds, reduced to :data:`RESPONSE_POINT_VARIABLES`
+    (the contact-loss branch, whose points differ in number, adds the jump speeds of
+    its first fold each way, NaN where there is none)."""
+    from ..analysis.response import scene_response
+
+    linear, branch = scene_response(case, scene)
+    kept = [name for name in RESPONSE_POINT_VARIABLES if name in linear]
+    result = linear[kept].drop_vars("mesh_order", errors="ignore")
+    if scene.response.contact_loss:
+        for key in ("up", "down"):
+            jumps = np.atleast_1d(branch.attrs[f"{key}_sweep_jumps"]) if branch else []
+            result[f"jump_{key}_rpm"] = ((), float(jumps[0]) if len(jumps) else math.nan, {
+                "units": "rpm", "long_name": f"first {key}-sweep jump speed of the "
+                "contact-loss branch (NaN: none)"})  # fmt: skip
+    return result
+
+
 POINT_ANALYSES: dict[str, Callable[[Case, Scene, Model], xr.Dataset]] = {
     "modal": _modal_point,
     "sensitivity": _sensitivity_point,
     "transient": _transient_point,
     "signal": lambda case, scene, model: xr.Dataset(),  # a sweep keeps no spectra
+    "response": _response_point,
 }
 """What a sweep point computes for each analysis a scene may ask for."""
 

@@ -19,6 +19,7 @@ from .sweep import (
     contact_loss_response,
     forced_response,
     response_summary,
+    scene_response,
     sweep_system,
 )
 from .system import ResponseSystem, response_system
@@ -39,6 +40,7 @@ __all__ = [
     "oscillator_system",
     "response_summary",
     "response_system",
+    "scene_response",
     "separated_response",
     "solve_hill",
     "sweep_system",

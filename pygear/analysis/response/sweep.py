@@ -24,6 +24,7 @@ and reads from them:
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import logging
 import math
 import time
@@ -46,6 +47,7 @@ __all__ = [
     "contact_loss_response",
     "forced_response",
     "response_summary",
+    "scene_response",
     "sweep_system",
 ]
 
@@ -201,6 +203,47 @@ def contact_loss_response(
         system, linear, law, harmonics=branch_harmonics, stability=stability
     )
     return linear, branch
+
+
+def scene_response(
+    case: Case, scene: Scene, progress: Callable[[int, int], None] | None = None
+) -> tuple[xr.Dataset, xr.Dataset | None]:
+    """The ``response`` analysis of a scene, as its :class:`~pygear.model.response_settings.
+    Response` settings ask: the linear sweep, and the contact-loss branch when asked.
+
+    Parameters
+    ----------
+    case : Case
+        The case as the scene sees it (:meth:`Case.for_scene` applied, as the scene runner
+        and a sweep point hold it): the scene's parameter changes are not applied again,
+        so a swept value of the same parameter stays.
+    scene : Scene
+        A scene with ``response`` settings.
+    progress : callable, optional
+        Called with (done, total) after each speed.
+
+    Returns
+    -------
+    (xarray.Dataset, xarray.Dataset or None)
+        The linear sweep and the branch (None without contact loss or separation).
+    """
+    settings = scene.response
+    if settings is None:
+        raise CaseError(f"scenes.{scene.name}.response: the response analysis needs its settings")
+    plain = dataclasses.replace(scene, parameters=())  # already applied to ``case``
+    options = dict(
+        scene=plain,
+        harmonics=settings.harmonics,
+        tolerance=settings.tolerance,
+        stability=settings.stability,
+        pin_errors=dict(settings.pin_errors) or None,
+        torque=settings.torque,
+        progress=progress,
+    )
+    speeds = np.array(settings.speeds)
+    if settings.contact_loss:
+        return contact_loss_response(case, speeds, **options)
+    return forced_response(case, speeds, **options), None
 
 
 def branch_jumps(branch: xr.Dataset | None, meshes: list[str]) -> dict[str, dict[str, list]]:
