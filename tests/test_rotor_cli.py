@@ -114,6 +114,7 @@ def test_drivetrain_gyroscopic_terms_follow_each_shaft_speed_ratio():
         (["frf", FRISWELL, "--frf", "shaft_2.x", "--frequencies", "1:10:5"], "--frf"),
         (["campbell", FRISWELL, "--speeds", "0:10:4", "--solver", "qr"], "--solver"),
         (["modal", FRISWELL, "--speed", "nan"], "--speed"),
+        (["campbell", FRISWELL, "--speeds", "0:10:4", "--scene", "modal"], "--scene"),
     ],
 )
 def test_rotor_commands_refuse_bad_input(tmp_path, capsys, arguments, parameter):

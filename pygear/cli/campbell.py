@@ -179,6 +179,11 @@ def _campbell(args: argparse.Namespace) -> int:
 
     case = load_case(args.case)
     if case.drivetrain is not None:
+        if args.scene is not None or args.member != "carrier":
+            raise CaseError(
+                "--scene and --member are for gearbox cases: a rotor or drivetrain case's "
+                "speeds are the rotor's, and its damping is always included"
+            )
         return _rotor_campbell(case, args, np.linspace(start, stop, count))
     if args.scene is not None:
         scene = case.scene(args.scene)
