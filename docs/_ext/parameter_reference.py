@@ -37,8 +37,14 @@ logger = logging.getLogger(__name__)
 GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
     (
         "Case and scenes",
-        "A case file's ``case = Case(...)`` and the scenes it runs.",
-        ("model.case.Case", "model.case.Scene", "model.case.RayleighDamping"),
+        "A case file's ``case = Case(...)``, the scenes it runs and the settings of a "
+        "scene's ``response`` analysis.",
+        (
+            "model.case.Case",
+            "model.case.Scene",
+            "model.case.RayleighDamping",
+            "model.response_settings.Response",
+        ),
     ),
     (
         "Transient settings",

@@ -46,7 +46,7 @@ class Response:
         Harmonics of the fundamental balanced: chosen per speed by ``tolerance``
         ("auto") or fixed, 0-1024 (1-128 with ``contact_loss``).
     tolerance : float
-        Residual the automatic count reaches, 0 < tolerance < 1.
+        Residual the automatic count reaches [-], 0 < tolerance < 1.
     contact_loss : bool
         Where the linear sweep separates the teeth, continue the branch with the
         backlash flank law through its folds (``<scene>_backlash.nc``).
