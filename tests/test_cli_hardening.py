@@ -393,3 +393,18 @@ def test_mesh_stiffness_out_of_a_directory_is_refused(tmp_path, capsys):
     folder.mkdir()
     assert main(["mesh-stiffness", "yang2016_planetary", "--out", str(folder)]) == 2
     assert "is a directory" in capsys.readouterr().err
+
+
+def test_tsa_help_and_data_model_page_name_the_same_file(capsys):
+    # the help once said RUN_tsa_<gear>.nc while the files (and the data-model page) are
+    # RUN_tsa_<stage>_<gear>.nc, e.g. steady_sensor_tsa_planetary_sun.nc
+    import re
+    from pathlib import Path
+
+    with pytest.raises(SystemExit):
+        main(["analyze", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    in_help = re.search(r"RUN_tsa_(<[a-z]+>(?:_<[a-z]+>)*)\.nc", help_text).group(1)
+    page = (Path(__file__).resolve().parent.parent / "docs" / "data_model.md").read_text()
+    in_page = re.search(r"<RUN>_tsa_(<[a-z]+>(?:_<[a-z]+>)*)\.nc", page).group(1)
+    assert in_help == in_page == "<stage>_<gear>"

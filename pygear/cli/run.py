@@ -99,7 +99,8 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--tsa",
         metavar="GEAR",
         help="synchronous average of GEAR (sun, ring, planet<n>) in a sensor channel, "
-        "McFadden's windowed averages for the sun and the planets: RUN_tsa_<gear>.nc and .png",
+        "McFadden's windowed averages for the sun and the planets: RUN_tsa_<stage>_<gear>.nc "
+        "and .png",
     )
     analyze.add_argument(
         "--indicators",
