@@ -97,3 +97,29 @@ print(json.dumps({"workers": list(workers.values()), "children": len(children)})
     assert result.returncode == 0, result.stderr
     report = json.loads(result.stdout.strip().splitlines()[-1])
     assert report == {"workers": [True, True], "children": 0}
+
+
+def test_local_workers_run_one_blas_thread():
+    """Every local worker limits OpenBLAS to one thread (a thread per core in each of
+    two workers oversubscribed the cores)."""
+    script = """
+import json
+from threadpoolctl import threadpool_info
+from pygear.runs.cluster import dask_client
+
+def blas_threads():
+    return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+with dask_client(workers=2) as client:
+    threads = client.run(blas_threads)
+print(json.dumps(list(threads.values())))
+"""
+    result = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+        env={**os.environ, "OPENBLAS_NUM_THREADS": "2"},
+    )
+    assert result.returncode == 0, result.stderr
+    per_worker = json.loads(result.stdout.strip().splitlines()[-1])
+    assert len(per_worker) == 2
+    assert all(threads and max(threads) == 1 for threads in per_worker)
+
