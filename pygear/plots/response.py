@@ -9,7 +9,9 @@
 - :func:`plot_stability`: the largest Floquet multiplier modulus, unstable speeds shaded;
 - :func:`plot_contact_loss`: the contact-loss branch (peak-to-peak DTE of every mesh
   along it, stable solid, unstable dashed), the linear response faint, and the jump
-  speeds of up and down sweeps.
+  speeds of up and down sweeps;
+- :func:`plot_harmonics_accuracy`: the accuracy ladder's frequency-domain rung, mesh-force
+  error against the harmonic count and against wall time.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ __all__ = [
     "ISO_RANGES",
     "plot_contact_loss",
     "plot_dynamic_factor",
+    "plot_harmonics_accuracy",
     "plot_load_sharing",
     "plot_stability",
 ]
@@ -221,6 +224,51 @@ def plot_contact_loss(branch: xr.Dataset, linear: xr.Dataset | None = None) -> F
     figure.suptitle(
         f"Contact loss with backlash: branch in speed{note}; dotted: linear response\n"
         f"{result_title(branch.attrs)}",
+        fontsize=9,
+    )
+    return figure
+
+
+def plot_harmonics_accuracy(ladder: xr.Dataset) -> Figure:
+    """Mesh-force error against the harmonic count (every judged speed faint, the
+    largest bold) and the largest error against wall time, the tolerance and the
+    recommended count marked.
+
+    Parameters
+    ----------
+    ladder : xarray.Dataset
+        A judged ladder (:func:`pygear.analysis.response.harmonics.recommend_harmonics`).
+    """
+    figure = new_figure(9.0, 4.0, DPI)
+    left = figure.add_axes((0.08, 0.14, 0.38, 0.68))
+    right = figure.add_axes((0.58, 0.14, 0.38, 0.68))
+    counts = ladder.harmonics.values
+    judged = ladder.judged.values > 0
+    errors = ladder.mesh_force_error.values
+    floor = 1e-16  # an exact zero cannot be drawn on log axes
+    for j in np.flatnonzero(judged):
+        left.loglog(counts, np.maximum(errors[:, j], floor), color="0.7", lw=0.5)
+    worst = np.maximum(ladder.max_judged_error.values, floor)
+    left.loglog(counts, worst, "o-", color="tab:blue", lw=1.4, label="largest over judged speeds")
+    right.loglog(ladder.wall_time.values, worst, "o-", color="tab:blue", lw=1.4)
+    for count, wall, error in zip(counts, ladder.wall_time.values, worst):
+        right.annotate(f"H={int(count)}", (wall, error), fontsize=6, xytext=(3, 3),
+                       textcoords="offset points")  # fmt: skip
+    tolerance = ladder.attrs["tolerance"]
+    best = ladder.attrs["recommended_harmonics"]
+    for axes in (left, right):
+        axes.axhline(tolerance, color="tab:red", lw=0.8, ls="--", label="tolerance")
+        axes.set_ylabel("mesh-force error [-]")
+    if best > 0:
+        i = int(np.flatnonzero(counts == best)[0])
+        left.plot([best], [worst[i]], "*", color="tab:red", ms=11, label=f"recommended H={best}")
+        right.plot([ladder.wall_time.values[i]], [worst[i]], "*", color="tab:red", ms=11)
+    left.set_xlabel("harmonics H")
+    right.set_xlabel("wall time over the speeds [s]")
+    left.legend(fontsize=7, frameon=False)
+    figure.suptitle(
+        f"Harmonic balance: error against the H = {ladder.attrs['reference_harmonics']} "
+        f"reference and against cost\n{result_title(ladder.attrs)}",
         fontsize=9,
     )
     return figure

@@ -1,5 +1,7 @@
 """The accuracy study run: every column of the ladder of
-:mod:`pygear.analysis.time.accuracy`, in this process or on a local Dask cluster."""
+:mod:`pygear.analysis.time.accuracy`, in this process or on a local Dask cluster; for a
+response scene, the frequency-domain rung (:func:`harmonics_study`: harmonic count
+against error and wall time, :mod:`pygear.analysis.response.harmonics`)."""
 
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ from ..analysis.time.accuracy import (
 from ..errors import CaseError
 from ..model.case import FORMULATIONS, Case, Scene
 
-__all__ = ["accuracy_study"]
+__all__ = ["accuracy_study", "harmonics_study"]
 
 
 def accuracy_study(
@@ -107,3 +109,40 @@ def _run_columns(tasks: list, workers: int, progress) -> list[list[dict]]:
             if progress is not None:
                 progress(done, len(tasks))
         return client.gather(futures)
+
+
+def harmonics_study(case: Case, scene: Scene, tolerance: float, levels: int = 7) -> xr.Dataset:
+    """The frequency-domain rung of a response scene: its speeds balanced at H = 2, 4,
+    ..., 2^levels and at 2^(levels + 1) as the reference, judged at ``tolerance``
+    (:func:`pygear.analysis.response.harmonics.recommend_harmonics`).
+
+    Parameters
+    ----------
+    case : Case
+        The case as loaded (the scene's parameter changes are applied here).
+    scene : Scene
+        A scene with ``response`` settings (speeds, torque, pin errors).
+    tolerance : float
+        Accepted mesh-force error, a fraction of the largest mesh force.
+    levels : int
+        Counts in the ladder, 1-9.
+
+    Raises
+    ------
+    CaseError
+        A scene without response settings, or ``levels`` out of range.
+    """
+    from ..analysis.response import response_system
+    from ..analysis.response.harmonics import harmonics_ladder, recommend_harmonics
+
+    if scene.response is None:
+        raise CaseError(f"--scene {scene.name!r} has no response settings to study")
+    if not (isinstance(levels, int) and 1 <= levels <= 9):
+        raise CaseError(f"--levels must be a whole number 1-9 for a response scene "
+                        f"(got {levels!r})")  # fmt: skip
+    settings = scene.response
+    system = response_system(case, scene, pin_errors=dict(settings.pin_errors) or None,
+                             torque=settings.torque)  # fmt: skip
+    counts = tuple(2**k for k in range(1, levels + 1))
+    ladder = harmonics_ladder(system, settings.speeds, counts)
+    return recommend_harmonics(ladder, tolerance)
