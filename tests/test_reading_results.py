@@ -219,13 +219,14 @@ def _user_repository(path: Path) -> str:
 def test_an_installed_copy_inside_a_repository_records_its_build_revision(tmp_path):
     """pygear installed into a virtual environment inside the user's repository, run
     from there: the file's ``source`` names the revision written at build time, never
-    the user's commit (io.py and _version.py as installed, without site-packages)."""
+    the user's commit (io.py, io_read.py and _version.py as installed, without
+    site-packages)."""
     repository = tmp_path / "user"
     commit = _user_repository(repository)
     package = repository / ".venv" / "site-packages" / "pygear"
     package.mkdir(parents=True)
     (package / "__init__.py").write_text("")
-    for name in ("io.py", "_version.py"):
+    for name in ("io.py", "io_read.py", "_version.py"):
         shutil.copy(ROOT / "pygear" / name, package / name)
     (package / "_git_revision.py").write_text('GIT_REVISION = "0123456789ab"\n')
     env = {**os.environ, "PYTHONPATH": str(package.parent)}
