@@ -408,3 +408,14 @@ def test_tsa_help_and_data_model_page_name_the_same_file(capsys):
     page = (Path(__file__).resolve().parent.parent / "docs" / "data_model.md").read_text()
     in_page = re.search(r"<RUN>_tsa_(<[a-z]+>(?:_<[a-z]+>)*)\.nc", page).group(1)
     assert in_help == in_page == "<stage>_<gear>"
+
+
+def test_a_bad_range_names_its_own_flag(capsys):
+    # one range parser for every command: frf's --frequencies once blamed --speeds
+    code = main(["frf", "friswell_rotor", "--frf", "a,b", "--frequencies", "50:10:5"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--frequencies" in err and "--speeds" not in err
+    assert main(["response", "yang2016_planetary", "--speeds", "0:100:3"]) == 2
+    assert "0 < START <= STOP" in capsys.readouterr().err
+    assert main(["campbell", "yang2016_planetary", "--speeds", "0:100:1"]) == 2
+    assert "COUNT must be a whole number >= 2" in capsys.readouterr().err

@@ -13,15 +13,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import CaseError
+from .ranges import parse_range
 
-__all__ = ["HANDLERS", "add_parsers", "campbell_summary", "parse_speeds"]
+__all__ = ["HANDLERS", "add_parsers", "campbell_summary"]
 
 MEMBERS = ("carrier", "input")
 """Reference members the speeds may be given for."""
-
-MAX_COUNT = 100_000
-"""Most speeds one diagram computes."""
-
 
 def add_parsers(commands: argparse._SubParsersAction) -> None:
     """Add the ``campbell`` subcommand."""
@@ -67,29 +64,6 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     campbell.add_argument(
         "--out", type=Path, help="directory of campbell.nc and campbell.png (default out/<case>)"
     )
-
-
-def parse_speeds(text: str) -> tuple[float, float, int]:
-    """``START:STOP:COUNT`` as (start, stop, count); START < STOP, COUNT >= 2."""
-    parts = str(text).split(":")
-    rule = "--speeds must read START:STOP:COUNT with START < STOP and a whole COUNT >= 2"
-    if len(parts) != 3:
-        raise CaseError(f"{rule} (got {text!r})")
-    try:
-        start, stop = float(parts[0]), float(parts[1])
-        count_value = float(parts[2])
-    except ValueError:
-        raise CaseError(f"{rule} (got {text!r})") from None
-    if not (math.isfinite(start) and math.isfinite(stop)):
-        raise CaseError(f"--speeds START and STOP must be finite numbers (got {text!r})")
-    if not start < stop:
-        raise CaseError(f"--speeds START must be below STOP (got {text!r})")
-    if not (math.isfinite(count_value) and count_value == int(count_value) and count_value >= 2):
-        raise CaseError(f"--speeds COUNT must be a whole number >= 2 (got {parts[2]!r})")
-    count = int(count_value)
-    if count > MAX_COUNT:
-        raise CaseError(f"--speeds COUNT may be at most {MAX_COUNT} (got {count})")
-    return start, stop, count
 
 
 def _harmonics(text: str) -> int:
@@ -166,7 +140,7 @@ def _print_table(campbell, summary: dict) -> None:
 
 
 def _campbell(args: argparse.Namespace) -> int:
-    start, stop, count = parse_speeds(args.speeds)
+    start, stop, count = parse_range(args.speeds)
     if args.member not in MEMBERS:
         raise CaseError(f"--member must be one of {', '.join(MEMBERS)} (got {args.member!r})")
     harmonics = _harmonics(args.harmonics)

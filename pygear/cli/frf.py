@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import CaseError
-from .campbell import parse_speeds
+from .ranges import parse_range
 
 __all__ = ["HANDLERS", "add_parsers", "parse_unbalance"]
 
@@ -89,12 +89,12 @@ def _frf(args: argparse.Namespace) -> int:
     if args.frf is not None:
         if args.frequencies is None:
             raise CaseError("--frf needs --frequencies START:STOP:COUNT [Hz]")
-        f_start, f_stop, f_count = parse_speeds(args.frequencies)
+        f_start, f_stop, f_count = parse_range(args.frequencies, "--frequencies", unit="Hz")
         pair = args.frf.split(",")
         if len(pair) != 2:
             raise CaseError(f"--frf must read OUTPUT,INPUT (two DOF labels) (got {args.frf!r})")
     else:
-        start, stop, count = parse_speeds(args.speeds)
+        start, stop, count = parse_range(args.speeds)
         if not args.unbalance:
             raise CaseError("--unbalance DISC:ME:PHASE is required with --speeds")
         unbalances = [parse_unbalance(text) for text in args.unbalance]

@@ -13,18 +13,15 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import CaseError
+from .ranges import parse_range
 
 __all__ = [
     "HANDLERS",
     "add_parsers",
     "parse_harmonics",
     "parse_pin_errors",
-    "parse_speeds",
     "parse_torque",
 ]
-
-MAX_COUNT = 100_000
-"""Most speeds one sweep computes."""
 
 MAX_HARMONICS = 1024
 """Largest harmonic count --harmonics takes."""
@@ -88,32 +85,6 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--out", type=Path, help="directory of response.nc and its figures (default out/<case>)"
     )
     response.add_argument("--no-figures", action="store_true", help="write the dataset only")
-
-
-def parse_speeds(text: str) -> tuple[float, float, int]:
-    """``START:STOP:COUNT`` as (start, stop, count): 0 < START <= STOP, a whole COUNT >= 1
-    (START = STOP when COUNT is 1)."""
-    parts = str(text).split(":")
-    rule = "--speeds must read START:STOP:COUNT (rpm, 0 < START <= STOP, a whole COUNT >= 1)"
-    if len(parts) != 3:
-        raise CaseError(f"{rule} (got {text!r})")
-    try:
-        start, stop, count_value = (float(p) for p in parts)
-    except ValueError:
-        raise CaseError(f"{rule} (got {text!r})") from None
-    if not (math.isfinite(start) and math.isfinite(stop) and 0 < start <= stop):
-        raise CaseError(f"--speeds START and STOP must be finite with 0 < START <= STOP "
-                        f"(got {text!r})")  # fmt: skip
-    if not (math.isfinite(count_value) and count_value == int(count_value) and count_value >= 1):
-        raise CaseError(f"--speeds COUNT must be a whole number >= 1 (got {parts[2]!r})")
-    count = int(count_value)
-    if count > MAX_COUNT:
-        raise CaseError(f"--speeds COUNT may be at most {MAX_COUNT} (got {count})")
-    if count == 1 and start != stop:
-        raise CaseError(f"--speeds COUNT 1 needs START = STOP (got {text!r})")
-    if count > 1 and start == stop:
-        raise CaseError(f"--speeds START must be below STOP for COUNT > 1 (got {text!r})")
-    return start, stop, count
 
 
 def parse_harmonics(text: str) -> int | str:
@@ -212,7 +183,7 @@ def _print_table(response, summary: dict) -> None:
 
 
 def _response(args: argparse.Namespace) -> int:
-    start, stop, count = parse_speeds(args.speeds)
+    start, stop, count = parse_range(args.speeds, single=True)
     harmonics = parse_harmonics(args.harmonics)
     tolerance = _tolerance(args.tolerance)
     pin_errors = parse_pin_errors(args.pin_error)
