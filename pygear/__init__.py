@@ -43,7 +43,19 @@ if TYPE_CHECKING:
     )
     from .model.gear_geometry import GearGeometry
     from .model.gearbox import Gearbox, ParallelStage, RigidLink, ShaftInertia, TorsionalSpring
+    from .model.micro_geometry import (
+        Deviations,
+        EndRelief,
+        Misalignment,
+        Modifications,
+        ProfileRelief,
+    )
     from .model.rating import DutyCycle, Material, Rating, RollingBearingData
+    from .model.reduction_settings import Reductions
+    from .model.response_settings import Response
+    from .model.rolling_bearing import BearingDefect, DistributedFault, RollingBearing
+    from .model.rotor import BearingCoefficients, Disc
+    from .model.rotor_case import RotorCase
     from .model.sensors import Sensor, StructuralMode
     from .model.transient_settings import Probe, TorqueLaw, Transient
 
@@ -72,6 +84,18 @@ _SOURCES = {
     ".model.gear_geometry": ("GearGeometry",),
     ".model.gearbox": ("Gearbox", "ParallelStage", "RigidLink", "ShaftInertia", "TorsionalSpring"),
     ".model.rating": ("DutyCycle", "Material", "Rating", "RollingBearingData"),
+    ".model.micro_geometry": (
+        "Deviations",
+        "EndRelief",
+        "Misalignment",
+        "Modifications",
+        "ProfileRelief",
+    ),
+    ".model.reduction_settings": ("Reductions",),
+    ".model.response_settings": ("Response",),
+    ".model.rolling_bearing": ("BearingDefect", "DistributedFault", "RollingBearing"),
+    ".model.rotor": ("BearingCoefficients", "Disc"),
+    ".model.rotor_case": ("RotorCase",),
     ".model.sensors": ("Sensor", "StructuralMode"),
     ".model.transient_settings": ("Probe", "TorqueLaw", "Transient"),
 }
@@ -94,13 +118,19 @@ def __dir__() -> list[str]:
 
 __all__ = [
     "Bearing",
+    "BearingCoefficients",
+    "BearingDefect",
     "Body",
     "Carrier",
     "Case",
     "CaseError",
     "Coupling",
+    "Deviations",
+    "Disc",
+    "DistributedFault",
     "Drivetrain",
     "DutyCycle",
+    "EndRelief",
     "Gear",
     "GearGeometry",
     "Gearbox",
@@ -108,25 +138,32 @@ __all__ = [
     "Generator",
     "Material",
     "Mesh",
+    "Misalignment",
+    "Modifications",
     "ParallelStage",
-    "RigidLink",
-    "ShaftInertia",
-    "TorsionalSpring",
     "PlanetBearing",
     "PlanetaryStage",
     "Probe",
+    "ProfileRelief",
     "Rating",
     "RayleighDamping",
+    "Reductions",
+    "Response",
+    "RigidLink",
+    "RollingBearing",
     "RollingBearingData",
     "Rotor",
+    "RotorCase",
     "Scene",
+    "Sensor",
     "Shaft",
     "ShaftBearing",
+    "ShaftInertia",
     "ShaftSection",
-    "Sensor",
     "StructuralMode",
     "ToothDefect",
     "TorqueLaw",
+    "TorsionalSpring",
     "Transient",
     "load_case",
 ]

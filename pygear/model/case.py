@@ -12,6 +12,7 @@ import hashlib
 import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..errors import CaseError
 from .case_files import find_case_dir, load_case_module
@@ -24,6 +25,9 @@ from .sensors import Sensor, validate_sensors
 from .time_step import check_time_step
 from .tooth_faults import check_fault_on_tooth
 from .transient_settings import Transient, where_written
+
+if TYPE_CHECKING:
+    from .rolling_bearing import RollingBearing
 
 __all__ = [
     "ANALYSES",
@@ -215,7 +219,7 @@ class Case:
     defects: tuple[ToothDefect, ...] = ()
     sensors: tuple[Sensor, ...] = ()
     drivetrain: Drivetrain | None = None
-    rolling_bearings: tuple = ()
+    rolling_bearings: tuple[RollingBearing, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "scenes", tuple(self.scenes))
