@@ -34,7 +34,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ...errors import CaseError
-from .gyroscopic import SpeedModes, quadratic_modes
+from .gyroscopic import SpeedModes, quadratic_modes, whirl_names
 
 __all__ = ["DENSE_LIMIT", "SOLVERS", "dense_quadratic_modes", "sparse_quadratic_modes", "solve"]
 
@@ -158,9 +158,6 @@ def _dense(matrix: sp.spmatrix | np.ndarray) -> np.ndarray:
 
 # --------------------------------------------------------------------------- rotor modes
 
-WHIRL_THRESHOLD = 0.1
-"""|whirl_ratio| above this names a mode forward or backward; between, planar."""
-
 KINDS = ("lateral", "axial", "torsional")
 """A mode's kind: where most of its kinetic energy is (x, y and tilts; z; theta_z)."""
 
@@ -226,16 +223,7 @@ def whirl_and_kind(
         ratio = np.where(total > 0, (forward - backward) / total, 0.0)
     if speed_rpm == 0:
         ratio = np.zeros_like(ratio)  # no spin: a repeated pair has no whirl of its own
-    names = []
-    for value, kind in zip(ratio, kinds):
-        if kind != "lateral":
-            names.append("none")
-        elif value > WHIRL_THRESHOLD:
-            names.append("forward")
-        elif value < -WHIRL_THRESHOLD:
-            names.append("backward")
-        else:
-            names.append("planar")
+    names = whirl_names(ratio, np.array(kinds) != "lateral")  # the gearbox's rule
     return np.where(np.array(kinds) == "lateral", ratio, 0.0), names, kinds
 
 
