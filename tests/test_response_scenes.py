@@ -88,7 +88,7 @@ def test_response_analysis_needs_its_settings():
 def test_study_case_response_scene():
     """The shipped scene validates and spans the range the response page documents."""
     scene = load_case(PLANETARY).scene("response")
-    assert scene.response.speeds_rpm == (100.0, 1500.0, 200)
+    assert scene.response.speeds_rpm == (250.0, 1500.0, 200)
     assert scene.response.speeds[1] - scene.response.speeds[0] == pytest.approx(1400 / 199)
 
 

@@ -344,7 +344,9 @@ case = Case(
             formulation="improved",
             dof_set="planar",
             effects=("time_varying_mesh_stiffness",),
-            response=Response(speeds_rpm=(100.0, 1500.0, 200)),
+            # from 250 rpm: below it the mesh harmonics that reach the mesh modes need
+            # more than the 128 harmonics the default tolerance allows (pygear accuracy)
+            response=Response(speeds_rpm=(250.0, 1500.0, 200)),
         ),
     ),
 )
