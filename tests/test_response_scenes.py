@@ -89,7 +89,7 @@ def test_study_case_response_scene():
     """The shipped scene validates and spans the range the response page documents."""
     scene = load_case(PLANETARY).scene("response")
     assert scene.response.speeds_rpm == (250.0, 1500.0, 200)
-    assert scene.response.speeds[1] - scene.response.speeds[0] == pytest.approx(1400 / 199)
+    assert scene.response.speeds[1] - scene.response.speeds[0] == pytest.approx(1250 / 199)
 
 
 def test_run_writes_what_forced_response_gives(case_dir, tmp_path, capsys):
