@@ -246,11 +246,17 @@ def _peak_rss_mib(tmp_path: Path, duration: float, stream: bool) -> float:
 @pytest.mark.slow
 def test_peak_memory_does_not_grow_with_the_run_length(tmp_path):
     """Peak RSS of a streamed run 4x longer is the same to within 15 MiB (allocator
-    noise), while the whole-record run's grows by about its record held twice (10
-    channels x 3e5 more samples x 8 bytes x 2 = 48 MB): the test sees the difference."""
+    noise; each the least of two processes), while the whole-record run's grows by about
+    its record held twice (10 channels x 3e5 more samples x 8 bytes x 2 = 48 MB): the
+    test sees the difference."""
     short, long = 2.5, 10.0
-    streamed = [_peak_rss_mib(tmp_path, d, True) for d in (short, long)]
-    whole = [_peak_rss_mib(tmp_path, d, False) for d in (short, long)]
+
+    def least_of_two(duration: float, stream: bool) -> float:
+        # a process's peak can catch a passing allocation burst: the least of two runs
+        return min(_peak_rss_mib(tmp_path / f"r{k}", duration, stream) for k in range(2))
+
+    streamed = [least_of_two(d, True) for d in (short, long)]
+    whole = [least_of_two(d, False) for d in (short, long)]
     assert streamed[1] - streamed[0] < 15.0, streamed
     assert whole[1] - whole[0] > 40.0, whole  # the measurement can tell
 
