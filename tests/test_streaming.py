@@ -217,7 +217,7 @@ def test_sigkill_half_way_leaves_no_complete_file_and_resume_completes_it(study,
 
 
 MEMORY_RUN = """
-import dataclasses, json, resource, sys
+import dataclasses, json, sys
 from pygear import load_case
 from pygear.runs.transient_outputs import write_transient
 
@@ -226,7 +226,10 @@ scene = case.scene("runup")
 scene = dataclasses.replace(scene, analyses=("transient",), transient=dataclasses.replace(
     scene.transient, duration=float(sys.argv[3]), mean_window=0.2))
 write_transient(case, scene, sys.argv[2], figure=False, stream=sys.argv[4] == "1")
-print(json.dumps(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss))
+# VmHWM: this process's own peak; ru_maxrss keeps the parent's across fork and exec, so
+# a large pytest process would set the floor of every measurement
+peak = next(line for line in open("/proc/self/status") if line.startswith("VmHWM"))
+print(json.dumps(int(peak.split()[1])))
 """
 
 
