@@ -6,6 +6,7 @@
   signals rebuilt from a solution;
 - :mod:`.floquet`: Floquet multipliers from the monodromy matrix;
 - :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``;
+- :mod:`.operating`: the dynamic factor per mesh at one speed, for a rating;
 - :mod:`.nonlinear` and :mod:`.continuation`: contact loss with backlash, continued in
   speed through the folds.
 """
@@ -14,6 +15,7 @@ from .continuation import continue_response, separated_response
 from .floquet import floquet_multipliers, system_multipliers
 from .hill import HillSolution, harmonic_balance, hill_matrix, mesh_signals, solve_hill
 from .nonlinear import BacklashLaw, case_law, oscillator_system
+from .operating import dynamic_factors_at
 from .sweep import (
     branch_jumps,
     contact_loss_response,
@@ -32,6 +34,7 @@ __all__ = [
     "case_law",
     "contact_loss_response",
     "continue_response",
+    "dynamic_factors_at",
     "floquet_multipliers",
     "forced_response",
     "harmonic_balance",

@@ -345,6 +345,7 @@ def response_system(
             "time_varying_mesh_stiffness": int(time_varying),
             "mesh_ratio_snap": snapped,
             "stiffness_samples": samples,
+            "mesh_stages": ",".join(m.stage for m in model.meshes),
         },
     )
 
