@@ -23,10 +23,19 @@ parameter and, for a tabulated law, the unit-mean curve.
   other's tip with power from the carrier to the sun (or from the input gear to the
   output gear); for the other power flow the contact table takes it mirrored
   (:meth:`MeshLaw.oriented_curve`).
+- ``loaded_contact``: the loaded tooth contact analysis of the pair with its gears'
+  micro-geometry (:mod:`pygear.assembly.loaded_contact_table`), tabulated over mesh
+  position and load once per mesh at the operating load w b (``Mesh.line_load`` w on
+  the common face width b) and 0.25 to 2 times it; the dynamics take its TE-equivalent
+  pair curve at the operating load as a tabulated law (the loaded TE of the
+  micro-geometry as the mesh spring's deflection under that load), k-bar the LTCA's
+  mean mesh stiffness.  Per-tooth deviations (single pitch deviations, runout) enter
+  the contact table tooth by tooth (:func:`pygear.assembly.tooth_fault_curves.deviation_curves`).
 
 Results are cached by their frozen inputs (the mesh, the mesh geometry, the bores, the
-stage's helix), so the element matrices, the contact table and every scene of a case
-share one evaluation; the time loop only reads the table.
+stage's helix; the gears' modifications for ``loaded_contact``), so the element
+matrices, the contact table and every scene of a case share one evaluation; the time
+loop only reads the table.
 """
 
 from __future__ import annotations
@@ -48,6 +57,11 @@ from ..model.geometry_inputs import (
     effective_law,
     parallel_mesh_geometry,
     planetary_mesh_geometry,
+)
+from .loaded_contact_table import (
+    LoadedContactTable,
+    loaded_contact_table,
+    operating_force,
 )
 from .mesh_stiffness_laws import iso6336_mesh_stiffness
 from .tooth_stiffness import ToothBody, mesh_stiffness
@@ -89,6 +103,8 @@ class MeshLaw:
         eps_alpha and eps_beta of the mesh [-] (eps_beta 0 for a spur mesh).
     geometry : MeshGeometry or None
         The mesh geometry the law was derived from, if any.
+    table : LoadedContactTable or None
+        The ``loaded_contact`` law's table over position and load (None otherwise).
     """
 
     law: str
@@ -101,6 +117,7 @@ class MeshLaw:
     curve: np.ndarray | None = None
     mirrored: bool = False
     geometry: MeshGeometry | None = None
+    table: LoadedContactTable | None = None
 
     def __post_init__(self) -> None:
         if self.curve is not None:  # shared through the cache: nobody may change it
@@ -177,8 +194,15 @@ def mesh_law(stage: PlanetaryStage | ParallelStage, member: str) -> MeshLaw:
         overlap = stage.overlap_ratio
         driving = 1
     helical = stage.base_helix_angle_deg != 0.0
+    law = effective_law(mesh, helical, overlap)
+    # the micro-geometry shapes only the loaded contact: other laws share their cache
+    mods = (
+        tuple(getattr(g, "modifications", None) for g in gears)
+        if law == "loaded_contact"
+        else None
+    )
     key = (
-        effective_law(mesh, helical, overlap),
+        law,
         mesh,
         geometry,
         tuple(_bore(g) for g in gears),
@@ -186,6 +210,7 @@ def mesh_law(stage: PlanetaryStage | ParallelStage, member: str) -> MeshLaw:
         overlap,
         driving,
         f"{stage.name}.{'mesh' if member == 'mesh' else member + '_mesh'}",
+        mods,
     )
     try:
         hash(key)
@@ -196,7 +221,7 @@ def mesh_law(stage: PlanetaryStage | ParallelStage, member: str) -> MeshLaw:
 
 @functools.lru_cache(maxsize=256)
 def _resolve(key: tuple) -> MeshLaw:
-    law, mesh, geometry, bores, helical, overlap, driving, path = key
+    law, mesh, geometry, bores, helical, overlap, driving, path, mods = key
     transverse = float(mesh.contact_ratio)
     eps_beta = float(overlap) if helical and overlap else 0.0
     common = dict(law=law, transverse_contact_ratio=transverse, overlap_ratio=eps_beta,
@@ -234,7 +259,22 @@ def _resolve(key: tuple) -> MeshLaw:
         return MeshLaw(code=LAW_CODES["tabulated"], mean_stiffness=float(mean),
                        contact_ratio=float(span), end_to_peak=float(mesh.end_to_peak),
                        curve=curve, mirrored=True, **common)  # fmt: skip
+    if law == "loaded_contact":
+        bodies = tooth_bodies(mesh, geometry, bores)
+        table = loaded_contact_table(geometry, bodies, mods,
+                                     operating_force(geometry, mesh.line_load),
+                                     driving_gear=driving, path=path)  # fmt: skip
+        curve = unit_mean_curve(table.pair_curve())
+        return MeshLaw(code=LAW_CODES["tabulated"],
+                       mean_stiffness=table.contact_ratio * _trapezoid_mean(table.pair_curve()),
+                       contact_ratio=table.contact_ratio, end_to_peak=float(mesh.end_to_peak),
+                       curve=curve, mirrored=True, table=table, **common)  # fmt: skip
     raise CaseError(f"{path}.law must be one of {', '.join(LAWS)} (got {law!r})")
+
+
+def _trapezoid_mean(values: np.ndarray) -> float:
+    """Mean of equally spaced samples under linear interpolation."""
+    return float((values.sum() - 0.5 * (values[0] + values[-1])) / (len(values) - 1))
 
 
 def unit_mean_curve(curve: tuple[float, ...]) -> np.ndarray:

@@ -54,7 +54,7 @@ __all__ = [
     "typed_value",
 ]
 
-GEOMETRY_LAWS = ("iso6336", "potential_energy")
+GEOMETRY_LAWS = ("iso6336", "potential_energy", "loaded_contact")
 """Laws that derive the mesh stiffness from the gear geometry (typing it is an error)."""
 
 RADIUS_RTOL = geo.TYPED_BASE_RADIUS_RTOL

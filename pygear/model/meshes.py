@@ -62,16 +62,19 @@ class Mesh:
         (``stiffness_curve``), ``helical`` (contact-line length over eps_alpha +
         eps_beta), ``iso6336`` (ISO 6336-1 method B mean c_gamma_alpha b; a constant
         pair stiffness on a spur stage, the helical law on a helical one) or
-        ``potential_energy`` (the pair curve of :mod:`pygear.assembly.tooth_stiffness`).
-        None: ``tabulated`` with a curve, ``helical`` on a helical stage, else
-        ``parabola``.
+        ``potential_energy`` (the pair curve of :mod:`pygear.assembly.tooth_stiffness`)
+        or ``loaded_contact`` (the loaded tooth contact of the pair with its gears'
+        micro-geometry at the operating load ``line_load`` times the face width,
+        :mod:`pygear.assembly.loaded_contact_table`).  None: ``tabulated`` with a
+        curve, ``helical`` on a helical stage, else ``parabola``.
     overlap_ratio : float or None
         Overlap ratio epsilon_beta of a helical mesh [-], >= 0 and below 10 (derived
         from geometry).  A helical
         stage needs it, typed or derived.
     line_load : float
         K_A F_t / b [N/mm] of the ``iso6336`` law, > 0 (below 100 it lowers the
-        stiffness).
+        stiffness); the ``loaded_contact`` law's operating load per face width along
+        the line of action.
     young_modulus, poisson_ratio : float
         Material of both gears [Pa, -], for the ``potential_energy`` law: Young's
         modulus > 0, Poisson's ratio in [0, 0.5).

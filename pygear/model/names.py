@@ -14,5 +14,5 @@ FORMULATIONS = ("improved", "consistent", "lin-parker")
 DOF_SETS = ("spatial", "planar", "torsional")
 """DOF sets: all six/seven DOFs, the in-plane ones, or the rotations only."""
 
-LAWS = ("parabola", "tabulated", "helical", "iso6336", "potential_energy")
+LAWS = ("parabola", "tabulated", "helical", "iso6336", "potential_energy", "loaded_contact")
 """Single-pair stiffness laws a :class:`~pygear.model.components.Mesh` may name."""
