@@ -31,7 +31,7 @@ from .dof_rows import dof_row, rigid_rotation
 from .matrices import Model
 from .mesh_laws import LAW_CODES, mesh_law
 from .mesh_phasing import stage_phasing
-from .tooth_fault_curves import fault_curves
+from .tooth_fault_curves import deviation_curves, fault_curves
 
 if TYPE_CHECKING:  # a Scene is only resolved here (model.scene_settings), never read
     from ..model.case import Scene
@@ -344,9 +344,14 @@ def build_contact_table(
         defects=defects,
     )
     table.check()
-    if any(defect.fault is not None for defect in defects):  # damaged teeth's own curves
-        meshes = [(m.stage, r["member"], r["gears"]) for m, r in zip(model.meshes, rows)]
-        table = with_tooth_curves(table, fault_curves(case, meshes, defects, sun_driven))
+    meshes = [(m.stage, r["member"], r["gears"]) for m, r in zip(model.meshes, rows)]
+    # teeth' own curves: per-tooth deviations on loaded-contact meshes, damaged teeth
+    # (a damaged tooth's fault curve replaces its deviation curve)
+    tooth_curves = deviation_curves(case, meshes, sun_driven)
+    if any(defect.fault is not None for defect in defects):
+        tooth_curves.update(fault_curves(case, meshes, defects, sun_driven))
+    if tooth_curves:
+        table = with_tooth_curves(table, tooth_curves)
     return table
 
 

@@ -27,6 +27,7 @@ the loaded contact over a whole revolution and gives every tooth its own pair cu
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,6 +45,7 @@ __all__ = [
     "loaded_contact_table",
     "mesh_periodic",
     "operating_force",
+    "revolution_pair_curves",
     "tooth_pair_curves",
 ]
 
@@ -207,7 +209,13 @@ def _table(ds, forces: np.ndarray, force: float) -> LoadedContactTable:
     )
 
 
-def tooth_pair_curves(
+def tooth_pair_curves(*args, **kwargs) -> np.ndarray:
+    """:func:`revolution_pair_curves`, cached by its frozen arguments (a sweep or a
+    batch of scenes tabulates each revolution once); the result is read-only."""
+    return _cached_curves(*args, **kwargs)
+
+
+def revolution_pair_curves(
     geometry: MeshGeometry,
     bodies: tuple[ToothBody, ToothBody],
     modifications: tuple[Modifications | None, Modifications | None],
@@ -254,4 +262,11 @@ def tooth_pair_curves(
         p = np.concatenate([fraction[r] + k for k, r in enumerate(rows)])
         k_values = np.concatenate([shares[r, k] for k, r in enumerate(rows)])
         curves[tooth] = _along_path(p, k_values[:, None], table.contact_ratio, samples)
+    return curves
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_curves(*args, **kwargs) -> np.ndarray:
+    curves = revolution_pair_curves(*args, **kwargs)
+    curves.setflags(write=False)
     return curves
