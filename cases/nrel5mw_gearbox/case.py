@@ -65,7 +65,9 @@ from pygear.model import (
     normal_backlash,
     working_pressure_angle,
 )
+from pygear.model.dlc_settings import DesignLoadCases
 from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
+from pygear.model.reduction_settings import Reductions
 from pygear.model.rolling_bearing import RollingBearing
 
 # ----------------------------------------------------------------------------------
@@ -880,3 +882,39 @@ rolling_bearings = tuple(
 # the planet bearings by geometry: their characteristic frequencies go into every run
 # file of this case, so `pygear analyze` names them
 case = dataclasses.replace(case, rolling_bearings=rolling_bearings)
+
+# ----------------------------------------------------------------------------------
+# Design load cases (pygear batch nrel5mw_gearbox --dlc): IEC 61400-1 ed.3 DLC 1.2,
+# power production in normal turbulence.  Each load case runs the run-up scene's model
+# driven by the rotor torque of a Kaimal wind through the NREL 5 MW rotor's Cp curve
+# (pygear.analysis.time.wind), the generator law holding the mean speed, and reduces
+# its channels on the fly; the batch sums them into load_spectrum.nc per year.
+# ----------------------------------------------------------------------------------
+
+design_load_cases = DesignLoadCases(
+    scene="runup",
+    # m/s: cut-in 3 to cut-out 25 m/s [Jonkman] in bins of 2 m/s, IEC 61400-1's widest
+    wind_speeds=tuple(float(v) for v in range(4, 25, 2)),
+    seeds=(1, 2, 3, 4, 5, 6),  # six 10-minute seeds per wind speed (IEC 61400-1 ed.3 7.5)
+    duration=600.0,  # s, IEC 61400-1's 10 minutes
+    # ASSUMED: turbulence category B (I_ref = 0.14) and the wind class I distribution
+    # (Rayleigh, mean 0.2 V_ref = 10 m/s): the reference turbine's IEC class IB [Jonkman]
+    turbulence_class="B",
+    weibull_shape=2.0,
+    weibull_mean=10.0,
+    input_rate=20.0,  # Hz, ASSUMED: OpenFAST's usual 0.05 s output step
+    regulation_time_constant=5.0,  # s, ASSUMED (see pygear.analysis.time.wind)
+    probes=RUNUP.probes
+    + (
+        Probe("bearing_force", "stage1.planet1_bearing.zeta"),  # radial, planet frame
+        Probe("bearing_force", "stage1.planet1_bearing.eta"),  # tangential
+        Probe("bearing_force", "stage2.planet1_bearing.zeta"),  # radial, planet frame
+        Probe("bearing_force", "stage2.planet1_bearing.eta"),  # tangential
+    ),
+    reductions=Reductions(
+        statistics=True,
+        rainflow=("mesh_force", "bearing_force"),
+        load_duration=("drive_torque", "load_torque"),
+        bins=64,  # ASSUMED: 64 range x 64 mean bins, fine enough for a damage sum
+    ),
+)
