@@ -19,11 +19,20 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     batch = commands.add_parser(
         "batch",
         help="run every scene of every case under DIRs in parallel (Dask)",
-        description="Exit code 0 when every scene ran, 1 when some failed, 2 for bad input.",
+        description="With --dlc, run the design load cases the case file defines "
+        "(design_load_cases = DesignLoadCases(...)) instead: one streamed file per load "
+        "case in <out>/<case>/dlc/, a complete one never run again (a rerun resumes the "
+        "batch; a half-written one runs again), then load_spectrum.nc, the load cases' "
+        "rainflow matrices and load duration distributions summed per year.  "
+        "Exit code 0 when every scene ran, 1 when some failed, 2 for bad input.",
     )
     batch.add_argument("dirs", metavar="DIR", nargs="+", help="case directories or their parents")
     batch.add_argument("--out", type=Path, default=Path("out"), help="output root (default: out)")
+    batch.add_argument(
+        "--dlc", action="store_true", help="run the case's design load cases (load spectrum)"
+    )
     _add_dask_options(batch)
+    _add_cluster_options(batch)
     batch.add_argument(
         "--no-figures",
         action="store_true",
@@ -60,12 +69,7 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         help="sweep directory, may hold other sweeps (default: out/<case>/sweep_<paths>)",
     )
     _add_dask_options(sweep)
-    sweep.add_argument("--cluster", choices=("slurm", "pbs"), help="run on a job queue")
-    sweep.add_argument("--queue", help="job queue (partition)")
-    sweep.add_argument("--walltime", metavar="HH:MM:SS", help="wall time of each job")
-    sweep.add_argument("--memory", metavar="4GB", help="memory of each job (default 4GB)")
-    sweep.add_argument("--cores", type=int, help="cores of each job, one worker each (default 1)")
-    sweep.add_argument("--jobs", type=int, help="jobs to submit (default: enough for --workers)")
+    _add_cluster_options(sweep)
     sweep.add_argument("--json", action="store_true", help="print a JSON summary on stdout")
 
 
@@ -74,12 +78,25 @@ def _add_dask_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scheduler", metavar="ADDRESS", help="use a running Dask scheduler")
 
 
+def _add_cluster_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--cluster", choices=("slurm", "pbs"), help="run on a job queue")
+    parser.add_argument("--queue", help="job queue (partition)")
+    parser.add_argument("--walltime", metavar="HH:MM:SS", help="wall time of each job")
+    parser.add_argument("--memory", metavar="4GB", help="memory of each job (default 4GB)")
+    parser.add_argument("--cores", type=int, help="cores of each job, one worker each (default 1)")
+    parser.add_argument("--jobs", type=int, help="jobs to submit (default: enough for --workers)")
+
+
+def _cluster_options(args: argparse.Namespace) -> dict:
+    return {name: getattr(args, name) for name in ("queue", "walltime", "memory", "cores", "jobs")}
+
+
 def _batch(args: argparse.Namespace) -> int:
     from ..runs.cluster import local_worker_server
 
     # the local workers' fork server imports their code while this process loads its own
-    with local_worker_server(local=args.scheduler is None):
-        return _run_batch(args)
+    with local_worker_server(local=args.scheduler is None and args.cluster is None):
+        return _run_dlc(args) if args.dlc else _run_batch(args)
 
 
 def _sweep(args: argparse.Namespace) -> int:
@@ -89,10 +106,50 @@ def _sweep(args: argparse.Namespace) -> int:
         return _run_sweep(args)
 
 
+def _run_dlc(args: argparse.Namespace) -> int:
+    from ..runs.batch import find_case_dirs
+    from ..runs.cluster import validate_cluster_options
+    from ..runs.dlc import run_dlc_batch
+    from ..runs.json_output import json_text
+
+    validate_cluster_options(args.workers, args.scheduler, args.cluster, _cluster_options(args))
+    failed, reports = False, []
+    for directory in find_case_dirs(args.dirs):
+        summary, spectrum = run_dlc_batch(
+            directory,
+            out_dir=args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            cluster=args.cluster,
+            cluster_options=_cluster_options(args),
+            progress=not args.json and progress_wanted(),
+        )
+        failed |= bool((summary["status"] == "error").any())
+        records = json.loads(summary.to_json(orient="records"))
+        reports.append({"case": directory.name, "load_cases": records,
+                        "load_spectrum": None if spectrum is None else str(spectrum)})  # fmt: skip
+        if not args.json:
+            shown = summary.drop(columns=["file"])
+            print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep="-"))
+            counts = summary["status"].value_counts().to_dict()
+            print(
+                f"{directory.name}: {len(summary)} load cases: "
+                + ", ".join(f"{n} {status}" for status, n in counts.items())
+                + (f"; load spectrum in {spectrum}" if spectrum else "; no load spectrum yet")
+            )
+    if args.json:
+        print(json_text({"out": str(args.out), "dlc": reports}))
+    return 1 if failed else 0
+
+
 def _run_batch(args: argparse.Namespace) -> int:
     from ..runs.batch import SUMMARY_NAME, run_batch
     from ..runs.json_output import json_text
 
+    if args.cluster is not None:
+        from ..errors import CaseError
+
+        raise CaseError("--cluster applies to design load cases and sweeps: add --dlc")
     table = run_batch(
         args.dirs,
         out_dir=args.out,
@@ -128,13 +185,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
     out = args.out or Path("out") / case.name / (
         "sweep_" + "__".join(path.replace(".", "_") for path, _ in params)
     )
-    options = {
-        "queue": args.queue,
-        "walltime": args.walltime,
-        "memory": args.memory,
-        "cores": args.cores,
-        "jobs": args.jobs,
-    }
+    options = _cluster_options(args)
     result = run_sweep(
         case,
         params,
