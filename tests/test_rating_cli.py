@@ -13,7 +13,8 @@ from pygear.cli.parser import main
 
 
 def _json(capsys, *argv: str) -> dict:
-    assert main(["rate", *argv, "--json"]) == 0
+    # ISO's K_v: these tests are about the files and the JSON, not the dynamic model
+    assert main(["rate", *argv, "--dynamic-factor", "iso", "--json"]) == 0
     return json.loads(capsys.readouterr().out)
 
 
@@ -47,9 +48,18 @@ def test_out_writes_the_dataset_the_report_and_the_figure(tmp_path, capsys):
         assert ds.S_H.attrs["units"] == "1" and ds.sigma_H.attrs["units"] == "MPa"
         assert "ISO 6336-1:2019" in ds.K_v.attrs["clause"]
         assert ds.K_Hbeta_source.sel(mesh="stage1.sun_mesh").item() == "given"
+        # K_v by default from the dynamic model, or ISO's method B with the reason
+        method = ds.attrs["K_v_method"]
+        sources = set(ds.K_v_source.values.tolist())
+        if method.startswith("response analysis"):
+            assert sources == {"response"}
+        else:
+            assert method.startswith("ISO 6336-1:2019 method B (cl. 6.3): the response")
+            assert sources == {"computed"}
         assert ds.attrs["limiting"].startswith("stage1.ring")
     report = (tmp_path / "rating.md").read_text()
     assert "## Factors per mesh" in report and "(given)" in report and "FAIL" in report
+    assert f"- K_v: {method}" in report and "| damage from |" in report
     assert (tmp_path / "rating.png").stat().st_size > 0
 
 

@@ -31,8 +31,19 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--duty-cycle",
         type=Path,
         metavar="FILE",
-        help="CSV load spectrum (columns torque,hours[,speed_rpm]) or input torque time "
-        "series (columns time,torque) instead of the case's duty cycle",
+        help="duty cycle instead of the case's: a CSV load spectrum (columns "
+        "torque,hours[,speed_rpm]) or input torque series (time,torque); a pygear run file "
+        "(its mesh forces, rainflow counted), a file of streamed reductions or a batch's "
+        "combined spectrum (rainflow_mesh_force matrices or a load duration distribution, "
+        "read as written); or an OpenFAST output (.out/.outb: rotor torque and speed)",
+    )
+    rate.add_argument(
+        "--dynamic-factor",
+        choices=("model", "iso"),
+        default="model",
+        help="K_v of meshes the case does not give: from the dynamic model's steady state "
+        "at the rated speed (model, the default; ISO's method B where the model cannot "
+        "give it, the output says why) or ISO 6336-1 method B (iso)",
     )
     rate.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     rate.add_argument("--out", type=Path, help="write rating.nc, rating.md and rating.png here")
@@ -42,21 +53,28 @@ def _rate(args: argparse.Namespace) -> int:
     import dataclasses
 
     from ..analysis.rating.dataset import rating_dataset
-    from ..analysis.rating.gearbox_rating import rate_gearbox
+    from ..analysis.rating.gearbox_rating import model_dynamic_factors, rate_gearbox
     from ..model.rating import load_rating
     from ..runs.json_output import json_text
     from ..runs.plan_checks import check_out_dir
-    from ..runs.rating_outputs import rating_json, read_duty_cycle, write_rating_outputs
+    from ..runs.rating_outputs import rating_json, write_rating_outputs
 
     check_out_dir("--out", args.out, "rate")
     case, rating = load_rating(args.case)
     if args.scene is not None:
         case = case.for_scene(case.scene(args.scene))
     notes: dict = {}
+    record: dict = {}
     if args.duty_cycle is not None:
-        duty, notes = read_duty_cycle(args.duty_cycle, rating.rated_speed_rpm)
-        rating = dataclasses.replace(rating, duty_cycle=duty)
-    result = rate_gearbox(case, rating)
+        duty, record, notes = _duty_file(args.duty_cycle, rating.rated_speed_rpm)
+        if duty is not None:
+            rating = dataclasses.replace(rating, duty_cycle=duty)
+    factors: dict = {}
+    method = "ISO 6336-1:2019 method B (cl. 6.3), asked for with --dynamic-factor iso"
+    if args.dynamic_factor == "model":
+        factors, method = model_dynamic_factors(case, rating)
+    result = rate_gearbox(case, rating, dynamic_factors=factors, dynamic_factor_method=method,
+                          **record)
     ds = rating_dataset(result, rating, case.name)
     if args.out is not None:
         from ..plots.rating import plot_safety_factors
@@ -84,6 +102,40 @@ def _rate(args: argparse.Namespace) -> int:
           f"the design {verdict} S_H >= {rating.required_sh:g}, S_F >= "
           f"{rating.required_sf:g} and {rating.service_life_h:g} h")
     return 0
+
+
+def _duty_file(path: Path, rated_speed_rpm: float) -> tuple[object, dict, dict]:
+    """(DutyCycle or None, rate_gearbox's record arguments, notes) of a --duty-cycle file:
+    CSV, NetCDF (a run, its reductions, a batch's spectrum) or OpenFAST output."""
+    from ..analysis.rating.duty_files import duty_from_dataset
+    from ..errors import CaseError
+    from ..runs.rating_outputs import read_duty_cycle
+
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        duty, notes = read_duty_cycle(path, rated_speed_rpm)
+        return duty, {}, notes
+    if not path.is_file():
+        raise CaseError(f"--duty-cycle {str(path)!r}: no such file")
+    if suffix in (".out", ".outb"):
+        from ..io_openfast import read_openfast_output
+
+        data = read_openfast_output(path)
+    elif suffix in (".nc", ".nc4", ".netcdf"):
+        from ..io import open_dataset
+
+        try:
+            data = open_dataset(path).load()
+        except (OSError, ValueError) as error:
+            raise CaseError(f"--duty-cycle {str(path)!r}: not a NetCDF file ({error})") from None
+    else:
+        raise CaseError(f"--duty-cycle {str(path)!r} must be a .csv, .nc, .out or .outb file")
+    found = duty_from_dataset(data, str(path))
+    record = {}
+    if found.matrices:
+        record = {"matrices": found.matrices, "record_s": found.record_s,
+                  "record_speed_rpm": found.speed_rpm}
+    return found.duty_cycle, record, found.notes
 
 
 HANDLERS: dict[str, Callable[[argparse.Namespace], int]] = {"rate": _rate}

@@ -68,6 +68,7 @@ def rating_json(ds: xr.Dataset) -> dict:
         row = ds.sel(gear=gear)
         gears[str(gear)] = {key: float(row[key]) for key in
                             ("sigma_F0", "sigma_F", "sigma_H", "S_H", "S_F", "damage", "life_h")}
+        gears[str(gear)]["damage_from"] = str(row["damage_from"].item())
     meshes = {}
     mesh_keys = [k for k in ds.data_vars if ds[k].dims == ("mesh",) and ds[k].dtype != object]
     for mesh in ds.mesh.values:
@@ -82,7 +83,13 @@ def rating_json(ds: xr.Dataset) -> dict:
                          "P": float(ds.bearing_P.sel(bearing=b))}
                 for b in ds.bearing.values}
     return {"gears": gears, "meshes": meshes, "bearings": bearings,
+            "dynamic_factor_method": ds.attrs.get("K_v_method", ""),
             "limiting": ds.attrs["limiting"], "passed": bool(ds.attrs["passed"])}
+
+
+_SOURCE_LABELS = {"computed": "ISO", "response": "model", "given": "given",
+                  "default": "default", "run": "run", "model": "model"}
+"""How the report names where a factor came from."""
 
 
 def _fmt(value: float) -> str:
@@ -109,7 +116,12 @@ def rating_markdown(ds: xr.Dataset, rating: Rating, case_name: str, notes: dict)
         lines.append(f"- duty cycle: {len(rating.duty_cycle.torque)} torque bins, "
                      f"{sum(rating.duty_cycle.hours):.6g} h")
     for key, value in notes.items():
-        lines.append(f"- duty cycle {key.replace('_', ' ')}: {_fmt(float(value))}")
+        text = value if isinstance(value, str) else _fmt(float(value))
+        lines.append(f"- duty cycle {key.replace('_', ' ')}: {text}")
+    lines.append(f"- K_v: {ds.attrs.get('K_v_method', '')}")
+    lines.append("- factor sources: (given) typed in the case, (model) pygear's dynamic or "
+                 "static model, (ISO) the standard's method, (default) a default value, "
+                 "(run) held in a run's mesh forces")
     lines += ["", "## Factors per mesh", "", "| factor | " + " | ".join(map(str, ds.mesh.values))
               + " | clause |", "|---" * (len(ds.mesh) + 2) + "|"]
     for key in ds.data_vars:
@@ -119,7 +131,7 @@ def rating_markdown(ds: xr.Dataset, rating: Rating, case_name: str, notes: dict)
         for mesh in ds.mesh.values:
             value = float(ds[key].sel(mesh=mesh))
             source = str(ds[f"{key}_source"].sel(mesh=mesh).item())
-            mark = "" if source in ("computed", "") else f" ({source})"
+            mark = f" ({_SOURCE_LABELS.get(source, source)})" if source else ""
             cells.append(_fmt(value) + mark)
         lines.append(f"| {key} [{ds[key].attrs['units']}] | " + " | ".join(cells)
                      + f" | {ds[key].attrs['clause']} |")
@@ -133,15 +145,17 @@ def rating_markdown(ds: xr.Dataset, rating: Rating, case_name: str, notes: dict)
         cells = [_fmt(float(v)) for v in ds[key].values.ravel()]
         lines.append(f"| {key[:-5]} | " + " | ".join(cells) + " |")
     lines += ["", "## Results per gear", "",
-              "| gear | sigma_H [MPa] | sigma_F [MPa] | S_H | S_F | damage | life [h] | verdict |",
-              "|---|---|---|---|---|---|---|---|"]
+              "| gear | sigma_H [MPa] | sigma_F [MPa] | S_H | S_F | damage | life [h] | verdict "
+              "| damage from |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for gear in ds.gear.values:
         row = ds.sel(gear=gear)
         ok = (float(row.S_H) >= rating.required_sh and float(row.S_F) >= rating.required_sf
               and float(row.damage) <= 1.0)
         lines.append(f"| {gear} | {_fmt(float(row.sigma_H))} | {_fmt(float(row.sigma_F))} | "
                      f"{float(row.S_H):.3f} | {float(row.S_F):.3f} | {_fmt(float(row.damage))} "
-                     f"| {_fmt(float(row.life_h))} | {'pass' if ok else 'FAIL'} |")
+                     f"| {_fmt(float(row.life_h))} | {'pass' if ok else 'FAIL'} | "
+                f"{row.damage_from.item()} |")
     if ds.sizes.get("bearing", 0):
         lines += ["", "## Bearings (ISO 281)", "",
                   "| bearing | P [N] | speed [rpm] | kappa | a_ISO | L10 [h] | L10m [h] "

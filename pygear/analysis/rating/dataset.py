@@ -73,6 +73,9 @@ def rating_dataset(result: GearboxRating, rating: Rating, case_name: str = "") -
     data["damage"] = ("gear", np.array(damage), {
         "units": "1", "long_name": "Palmgren-Miner damage over the service life",
         "clause": "ISO 6336-6:2019 (S-N curves of ISO 6336-2/-3 life factors)"})
+    data["damage_from"] = ("gear", np.array(
+        [result.damage.get(g, {}).get("source", "") for g in gears], dtype=object),
+        {"long_name": "what the damage was summed from"})
     life = [rating.service_life_h / d if d > 0 else np.inf for d in damage]
     data["life_h"] = ("gear", np.array(life), {"units": "h", "long_name": "service life"})
     bearings = list(result.bearings)
@@ -97,6 +100,7 @@ def rating_dataset(result: GearboxRating, rating: Rating, case_name: str = "") -
         "required_sh": rating.required_sh, "required_sf": rating.required_sf,
         "service_life_h": rating.service_life_h, "limiting": limiting,
         "limiting_margin": margin, "passed": int(margin >= 1.0),
+        "K_v_method": result.dynamic_factor_method,
     })
     return ds
 

@@ -17,6 +17,7 @@ higher: the damage of light bins is then underestimated, which they rarely decid
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -30,7 +31,10 @@ from . import factors as iso
 from .duty import cycles_to_failure
 from .gear_rating import FactorValue, PairLoad, PairRating, planet_reduced_masses, rate_pair
 
-__all__ = ["GearboxRating", "MeshEntry", "load_sharing_from_forces", "rate_gearbox"]
+__all__ = ["GearboxRating", "MeshEntry", "load_sharing_from_forces", "model_dynamic_factors",
+           "rate_gearbox"]
+
+ISO_KV = "ISO 6336-1:2019 method B (cl. 6.3)"
 
 MESH_MEMBERS = {"sun_mesh": ("sun", "planet"), "ring_mesh": ("planet", "ring"),
                 "mesh": ("input_gear", "output_gear")}
@@ -55,6 +59,7 @@ class GearboxRating:
     damage: dict[str, dict[str, float]] = field(default_factory=dict)
     bearings: dict[str, dict[str, float]] = field(default_factory=dict)
     spectrum_hours: float | None = None
+    dynamic_factor_method: str = ISO_KV
 
 
 def load_sharing_from_forces(forces: Sequence[float]) -> float:
@@ -64,6 +69,42 @@ def load_sharing_from_forces(forces: Sequence[float]) -> float:
     if not values or sum(values) <= 0.0:
         raise CaseError("forces must hold at least one non-zero planet mesh force")
     return max(values) / (sum(values) / len(values))
+
+
+class _Records(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def model_dynamic_factors(case, rating: Rating, scene=None) -> tuple[dict[str, float], str]:
+    """K_v per rated mesh from the dynamic model's steady state at the rated input speed
+    and torque (:func:`pygear.analysis.response.dynamic_factors_at`), and how K_v was
+    found.  Where the response cannot give it (a case it cannot balance, or a balance
+    that misses its tolerance) the dict is empty and the text says why: the rating then
+    takes ISO 6336-1 method B."""
+    from ..response import dynamic_factors_at
+
+    speed = rating.rated_speed_rpm
+    records = _Records()
+    logger = logging.getLogger("pygear")
+    logger.addHandler(records)
+    try:
+        values = dynamic_factors_at(case, speed, rating.rated_torque, scene=scene,
+                                    keys="rating")
+    except CaseError as error:
+        return {}, f"{ISO_KV}: the response analysis cannot balance this case ({error})"
+    finally:
+        logger.removeHandler(records)
+    missed = [m for m in records.messages if "residual" in m]
+    if missed:
+        return {}, (f"{ISO_KV}: the response analysis at {speed:g} rpm misses its "
+                    f"tolerance ({missed[0].removeprefix('response: ')})")
+    return values, (f"response analysis (harmonic balance, peak over mean mesh force) at "
+                    f"the rated {speed:g} rpm")
 
 
 def _material(rating: Rating, gear: str):
@@ -156,7 +197,7 @@ def pair_loads(case, rating: Rating, torque: float, speed: float, application_fa
             k_g = FactorValue(
                 model_sharing[stage.name],
                 "static model with rating.planet_position_errors at the rated torque "
-                "(ISO 6336-1:2019 cl. 5: max / mean planet force)", "computed")
+                "(ISO 6336-1:2019 cl. 5: max / mean planet force)", "model")
         if k_g is None and not hasattr(stage, "planets"):
             k_g = FactorValue(1.0, "one load path (a parallel stage)", "default")
         if k_g is None:
@@ -219,7 +260,10 @@ def _constant_load_damage(entry: MeshEntry, side: int, hours: float) -> tuple[fl
 
 
 def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] | None = None,
-                 duty_cycle=None) -> GearboxRating:
+                 duty_cycle=None, matrices: Sequence | None = None,
+                 record_s: float | None = None,
+                 record_speed_rpm: float | None = None,
+                 dynamic_factor_method: str | None = None) -> GearboxRating:
     """Rate every mesh at the rated point, then the damage and the bearings.
 
     Parameters
@@ -232,6 +276,16 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
         K_v per mesh ("stage1.sun_mesh", ...) from outside; used instead of method B.
     duty_cycle : DutyCycle, optional
         Overrides ``rating.duty_cycle``.
+    matrices : sequence of CycleMatrix, optional
+        Rainflow matrices of recorded mesh forces (a run's, :mod:`.run_damage`): the
+        damage of the meshes they cover comes from them, over ``record_s`` seconds.
+    record_s : float, optional
+        Duration [s] the ``matrices`` count.
+    record_speed_rpm : float, optional
+        Mean input speed of that record [rpm] (default the rated speed): the tooth
+        contacts the matrices' cycles share out.
+    dynamic_factor_method : str, optional
+        How ``dynamic_factors`` were found, for the output.
     """
     duty = duty_cycle if duty_cycle is not None else rating.duty_cycle
     sharing = None
@@ -245,12 +299,21 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
     meshes = [MeshEntry(name, gears, stage, load, rate_pair(load))
               for name, gears, stage, load in loads]
     result = GearboxRating(meshes)
+    if dynamic_factor_method is not None:
+        result.dynamic_factor_method = dynamic_factor_method
+    elif dynamic_factors:
+        result.dynamic_factor_method = "given to rate_gearbox (dynamic_factors)"
     life = rating.service_life_h
+    speed_scale = (record_speed_rpm or rating.rated_speed_rpm) / rating.rated_speed_rpm
+    recorded = _recorded(case, meshes, matrices, record_s, life, result, speed_scale)
     if duty is None:
         for entry in meshes:
+            if entry.name in recorded:
+                continue
             for side in (0, 1):
                 pitting, bending = _constant_load_damage(entry, side, life)
-                _add_damage(result.damage, entry.gears[side], entry.name, pitting, bending)
+                _add_damage(result.damage, entry.gears[side], entry.name, pitting, bending,
+                            "rated load (K_A included) over the service life")
     else:
         result.spectrum_hours = sum(duty.hours)
         scale = life / result.spectrum_hours
@@ -262,6 +325,8 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
             # ISO 6336-6: the spectrum replaces K_A, the other factors at each bin's load
             binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors, sharing)
             for name, gears, _, load in binned:
+                if name in recorded:
+                    continue
                 rated = rate_pair(replace(load, service_life_h=hours))
                 for side in (0, 1):
                     entry = MeshEntry(name, gears, "", replace(load, service_life_h=hours), rated)
@@ -270,17 +335,47 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                     slot[0] += pitting
                     slot[1] += bending
         for (name, gear, _), (pitting, bending) in totals.items():
-            _add_damage(result.damage, gear, name, pitting * scale, bending * scale)
+            _add_damage(result.damage, gear, name, pitting * scale, bending * scale,
+                        "duty cycle (ISO 6336-6 load spectrum)")
     result.bearings = _bearings(case, rating, meshes, duty)
     return result
 
 
-def _add_damage(table: dict, gear: str, mesh: str, pitting: float, bending: float) -> None:
-    slot = table.setdefault(gear, {"pitting": 0.0, "bending": 0.0, "mesh": mesh})
+def _recorded(case, meshes: list[MeshEntry], matrices, record_s, life: float,
+              result: GearboxRating, speed_scale: float) -> set[str]:
+    """Damage of the meshes the recorded ``matrices`` cover (added to ``result``); their
+    names."""
+    if not matrices:
+        return set()
+    from .run_damage import matrices_by_mesh, run_planets, spectrum_damage
+
+    names = [m.name for m in meshes]
+    grouped, unknown = matrices_by_mesh(matrices, names)
+    if unknown:
+        raise CaseError(f"the duty-cycle record's meshes {unknown} are not meshes of the "
+                        f"case's rating ({names})")
+    planets = {s.name: getattr(s, "planets", 1) for s in _gear_stages(case)}
+    for entry in meshes:
+        if entry.name not in grouped:
+            continue
+        damage = spectrum_damage(entry.pair, run_planets(planets, entry.name),
+                                 grouped[entry.name], float(record_s or 0.0), life,
+                                 speed_scale)
+        for side, (pitting, bending) in enumerate(damage):
+            _add_damage(result.damage, entry.gears[side], entry.name, pitting, bending,
+                        "run's mesh forces (rainflow, ISO 6336-6)")
+    return set(grouped)
+
+
+def _add_damage(table: dict, gear: str, mesh: str, pitting: float, bending: float,
+                source: str) -> None:
+    slot = table.setdefault(gear, {"pitting": 0.0, "bending": 0.0, "mesh": mesh,
+                                   "source": source})
     # a planet's two flanks (sun side, ring side) are different surfaces; its root sees
     # both meshes' bending, which Y_M already accounts for: the worse of each counts
     if max(pitting, bending) > max(slot["pitting"], slot["bending"]):
         slot["mesh"] = mesh
+        slot["source"] = source
     slot["pitting"] = max(slot["pitting"], pitting)
     slot["bending"] = max(slot["bending"], bending)
 
