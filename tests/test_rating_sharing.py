@@ -80,3 +80,40 @@ def test_rating_takes_the_models_k_gamma(case):
             rating, planet_position_errors={"stage1": (0.0, 0.0)}))
     with pytest.raises(CaseError, match=r"must be a finite error in m below 1 mm"):
         dataclasses.replace(rating, planet_position_errors={"stage1": (0.05, 0.0, 0.0)})
+
+
+def test_a_planet_position_error_rates_lower_by_the_models_load_sharing(case):
+    # a held sun: stage 1 with one pin 50 um out rates below the perfect stage, and the
+    # contact safety of the sun falls by 1/sqrt(K_gamma) with K_gamma = max / mean of the
+    # planets' sun-mesh forces (K_v and K_Halpha, which follow the line load, divided
+    # out exactly); the damage rises
+    from pygear import Bearing
+    from pygear.analysis.rating.gearbox_rating import rate_gearbox
+    from pygear.model.rating import load_rating
+
+    stage = case.gearbox.stage("stage1")
+    held = dataclasses.replace(stage, sun_bearing=Bearing(radial=1e10, axial=1e8, tilt=1e6,
+                                                          torsional=0.0))
+    gearbox = dataclasses.replace(case.gearbox, stages=tuple(
+        held if s.name == "stage1" else s for s in case.gearbox.stages))
+    stiff = dataclasses.replace(case, gearbox=gearbox)
+    _, rating = load_rating("nrel5mw_gearbox")
+    errors = (50e-6, 0.0, 0.0)
+    rating = dataclasses.replace(rating, load_sharing={})
+    perfect = rate_gearbox(stiff, dataclasses.replace(
+        rating, planet_position_errors={"stage1": (0.0, 0.0, 0.0)}))
+    errored = rate_gearbox(stiff, dataclasses.replace(
+        rating, planet_position_errors={"stage1": errors}))
+    forces = planet_mesh_forces(stiff, {"stage1": errors}, rating.rated_torque)["stage1"]
+    k_gamma = forces.max() / forces.mean()
+    assert k_gamma > 1.02  # the error matters (3 % at 50 um)
+    mesh = {m.name: m for m in perfect.meshes}["stage1.sun_mesh"].rating
+    worse = {m.name: m for m in errored.meshes}["stage1.sun_mesh"].rating
+    assert mesh.mesh["K_gamma"].value == pytest.approx(1.0, abs=1e-9)
+    assert worse.mesh["K_gamma"].value == pytest.approx(k_gamma, rel=1e-9)
+    k_v = worse.mesh["K_v"].value / mesh.mesh["K_v"].value
+    k_alpha = worse.mesh["K_Halpha"].value / mesh.mesh["K_Halpha"].value
+    ratio = worse.gears[0]["S_H"].value / mesh.gears[0]["S_H"].value
+    assert ratio == pytest.approx(1.0 / math.sqrt(k_gamma * k_v * k_alpha), rel=1e-12)
+    assert worse.gears[0]["S_F"].value < mesh.gears[0]["S_F"].value
+    assert errored.damage["stage1.sun"]["pitting"] > perfect.damage["stage1.sun"]["pitting"]
