@@ -8,8 +8,8 @@ case file defines (:class:`pygear.model.dlc_settings.DesignLoadCases`):
   (``TorqueLaw.table``), written as ``<out>/<case>/dlc/<load case>.nc``, streamed
   (it grows under a hidden name marked ``complete = 0`` and takes its name when whole);
 * a load case whose file is complete is not run again; a half-written one (a killed
-  worker, a killed batch) is run again from its start; each load case that completes
-  adds a line to ``dlc_journal.log``;
+  worker, a killed batch) is run again from its start; each load case adds a line to
+  ``dlc_journal.log`` when its run starts and another when its file is complete;
 * when every load case is complete their rainflow matrices and load duration
   distributions are summed, each weighted by the hours a year its wind speed blows,
   into ``load_spectrum.nc`` (:mod:`pygear.runs.dlc_spectrum`).
@@ -52,7 +52,8 @@ __all__ = [
 ]
 
 JOURNAL_NAME = "dlc_journal.log"
-"""Lines ``completed <load case> <pid> <wall s>``, one per load case run to its end."""
+"""Lines ``started <load case> <pid>`` when a load case's run starts and ``completed
+<load case> <pid> <wall s>`` when its file is complete."""
 
 SPECTRUM_NAME = "load_spectrum.nc"
 SUMMARY_NAME = "dlc_summary.csv"
@@ -160,10 +161,16 @@ def case_file_complete(path: str | os.PathLike) -> bool:
         return False
 
 
+def _journal(out: Path, line: str) -> None:
+    """Append one line to the batch's journal (one short write: whole, whatever the
+    other workers append)."""
+    with open(out / JOURNAL_NAME, "a") as journal:
+        journal.write(line + "\n")
+
+
 def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
     """Run one load case of the case's table into ``out_dir/<name>.nc`` (a Dask task;
     never raises).  A load case whose file is complete already is ``reused``."""
-    from ..model.case import load_case  # noqa: F401 - the case module's own loader
     from .scene_checks import check_scenes
     from .scene_runner import scene_model_for
     from .transient_outputs import write_transient
@@ -184,6 +191,7 @@ def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
         case = dataclasses.replace(case, rolling_bearings=())
         scene = load_case_scene(case, table, load, load_case_series(table, load, directory))
         check_scenes(case, [scene], out=out)
+        _journal(out, f"started {name} {os.getpid()}")
         scene_case, model = scene_model_for(case, scene)
         with task_files():
             dataset, _ = write_transient(
@@ -191,8 +199,7 @@ def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
             )
             dataset.close()
         wall = time.perf_counter() - started
-        with open(out / JOURNAL_NAME, "a") as journal:  # one short append: atomic
-            journal.write(f"completed {name} {os.getpid()} {wall:.3f}\n")
+        _journal(out, f"completed {name} {os.getpid()} {wall:.3f}")
         row.update(status="ok", wall_s=wall)
     except Exception as error:  # noqa: BLE001 - one failing load case must not stop the batch
         row.update(
