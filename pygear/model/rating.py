@@ -355,6 +355,11 @@ class Rating:
     dynamic_factor, face_load_factor, transverse_load_factor : dict of str to float
         K_v, K_Hbeta and K_Halpha (= K_Falpha) per mesh [-], named "<stage>.sun_mesh",
         "<stage>.ring_mesh" or "<stage>.mesh"; a mesh left out gets the standard's method.
+    face_load_from_model : bool
+        K_Hbeta of the meshes ``face_load_factor`` leaves out with the shaft and bearing
+        mismatch f_sh from the case's static deflection under the rated torque
+        (:mod:`pygear.analysis.rating.deflection`; meaningful where the model holds the
+        supports' tilt stiffness, a drivetrain case); False: f_sh = 0.
     accuracy_grade : int
         ISO 1328-1 accuracy grade Q (pitch and profile deviations of K_v, K_Halpha).
     oil_viscosity_40 : float
@@ -377,6 +382,7 @@ class Rating:
     dynamic_factor: dict[str, float] = field(default_factory=dict)
     face_load_factor: dict[str, float] = field(default_factory=dict)
     transverse_load_factor: dict[str, float] = field(default_factory=dict)
+    face_load_from_model: bool = False
     accuracy_grade: int = 6
     oil_viscosity_40: float = 220.0
     duty_cycle: DutyCycle | None = None
@@ -422,6 +428,9 @@ class Rating:
                 f"rating.accuracy_grade must be an ISO 1328-1 grade 1..12 "
                 f"(got {self.accuracy_grade!r})"
             )
+        if not isinstance(self.face_load_from_model, bool):
+            raise CaseError("rating.face_load_from_model must be True or False "
+                            f"(got {self.face_load_from_model!r})")
         if self.duty_cycle is not None and not isinstance(self.duty_cycle, DutyCycle):
             raise CaseError("rating.duty_cycle must be a DutyCycle or None")
         names = [b.name for b in self.bearings]

@@ -74,6 +74,9 @@ class PairLoad:
         nu_40 [mm^2/s].
     service_life_h : float
         Hours of the static rating's load cycles.
+    shaft_mismatch : float or None
+        The model's mismatch f_sh per unit line load [um per N/mm] (from the static
+        deflection, :mod:`.deflection`); None: f_sh = 0 in K_Hbeta's method C.
     """
 
     geometry: geo.MeshGeometry
@@ -90,6 +93,7 @@ class PairLoad:
     accuracy_grade: int = 6
     oil_viscosity_40: float = 220.0
     service_life_h: float = 20000.0
+    shaft_mismatch: float | None = None
 
 
 @dataclass(frozen=True)
@@ -227,17 +231,26 @@ def rate_pair(load: PairLoad) -> PairRating:
         out["K_Hbeta"] = load.given["K_Hbeta"]
     else:
         c_gb = 0.85 * c_ga
-        f_bx = max(f_hb, 0.005 * f_m / b)  # f_ma = f_Hbeta, f_sh = 0 (no shaft data)
+        # f_ma = f_Hbeta of the grade; f_sh from the model's deflection (at this line
+        # load, in the adverse sense against f_ma), else 0 (no shaft data)
+        f_sh = 0.0 if load.shaft_mismatch is None else abs(load.shaft_mismatch) * f_m / b
+        f_bx = max(f_sh + f_hb, 0.005 * f_m / b)
         hard = all(_hardened(m) for m in load.materials)
         y_b = min(0.15 * f_bx, 6.0) if hard else min(320.0 / min(s_hlim) * f_bx,
                                                       25600.0 / min(s_hlim))
         f_by = f_bx - y_b
         ratio_h = c_gb * f_by * b / (2.0 * f_m)
         k_hb = 1.0 + ratio_h if ratio_h <= 1.0 else math.sqrt(4.0 * ratio_h)
-        out["K_Hbeta"] = FactorValue(
-            k_hb, "ISO 6336-1:2019 cl. 7.6 (method C: f_ma = f_Hbeta of the grade, f_sh = 0)",
-            "computed",
-        )
+        if load.shaft_mismatch is None:
+            out["K_Hbeta"] = FactorValue(
+                k_hb, "ISO 6336-1:2019 cl. 7.6 (method C: f_ma = f_Hbeta of the grade, "
+                "f_sh = 0)", "computed")
+        else:
+            out["f_sh"] = FactorValue(f_sh, "ISO 6336-1:2019 cl. 7, Annex E (mismatch from "
+                                      "the model's static deflection) [um]", "model")
+            out["K_Hbeta"] = FactorValue(
+                k_hb, f"ISO 6336-1:2019 cl. 7.6 (F_betax = f_sh + f_ma, f_sh = {f_sh:.3g} um "
+                "from the model's static deflection, f_ma = f_Hbeta of the grade)", "model")
     k_hb = out["K_Hbeta"].value
     depth = 1e3 * min(
         abs(geo.tip_radius(g) - geo.root_radius(g)) for g in (g1, g2)

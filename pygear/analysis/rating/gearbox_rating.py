@@ -296,6 +296,8 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                                           rating.rated_torque)
     loads = pair_loads(case, rating, rating.rated_torque, rating.rated_speed_rpm,
                        rating.application_factor, dynamic_factors, sharing)
+    mismatch = _shaft_mismatch(case, rating, loads) if rating.face_load_from_model else {}
+    loads = [(n, g, s, replace(p, shaft_mismatch=mismatch.get(n))) for n, g, s, p in loads]
     meshes = [MeshEntry(name, gears, stage, load, rate_pair(load))
               for name, gears, stage, load in loads]
     result = GearboxRating(meshes)
@@ -324,6 +326,8 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                 continue
             # ISO 6336-6: the spectrum replaces K_A, the other factors at each bin's load
             binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors, sharing)
+            binned = [(n, g, s, replace(p, shaft_mismatch=mismatch.get(n)))
+                      for n, g, s, p in binned]
             for name, gears, _, load in binned:
                 if name in recorded:
                     continue
@@ -339,6 +343,31 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                         "duty cycle (ISO 6336-6 load spectrum)")
     result.bearings = _bearings(case, rating, meshes, duty)
     return result
+
+
+def _shaft_mismatch(case, rating: Rating, loads: list[tuple]) -> dict[str, float]:
+    """f_sh per unit line load [um per N/mm] of every rated mesh from the model's static
+    deflection at the rated torque (:mod:`.deflection`): the largest over a stage's
+    planets; meshes with a given K_Hbeta are left out."""
+    from .deflection import mesh_misalignments
+    from .run_damage import mesh_for_label
+
+    slopes = mesh_misalignments(case, rating.rated_torque)
+    names = [entry[0] for entry in loads]
+    worst: dict[str, float] = {}
+    for label, slope in slopes.items():
+        mesh = mesh_for_label(label, names)
+        if mesh is not None:
+            worst[mesh] = max(worst.get(mesh, 0.0), abs(slope))
+    out = {}
+    for name, _, _, load in loads:
+        if name in rating.face_load_factor or name not in worst:
+            continue
+        g1, g2 = load.geometry.gear1, load.geometry.gear2
+        b = min(g1.face_width, g2.face_width)  # m
+        line_load = abs(load.torque1) / geo.pitch_radius(g1) / (b * 1e3)  # N/mm, nominal
+        out[name] = worst[name] * b * 1e6 / line_load
+    return out
 
 
 def _recorded(case, meshes: list[MeshEntry], matrices, record_s, life: float,
