@@ -115,7 +115,7 @@ case = dataclasses.replace(
             effects=("time_varying_mesh_stiffness",),
             transient=STEADY,
             # ASSUMED: carrier 30 to 300 rpm, the 194 Hz mesh frequency's tenth to 2.5 times
-            response=Response(speeds_rpm=(30.0, 300.0, 28), harmonics=32),
+            response=Response(speeds_rpm=(30.0, 300.0, 16), harmonics=32),
         ),
     ),
 )
