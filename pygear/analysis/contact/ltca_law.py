@@ -11,10 +11,13 @@ perfect flanks it is the potential-energy law's pair curve; modifications, devia
 and misalignment make it load-dependent (a relieved tip takes no load until the load
 closes the relief).  :func:`with_loaded_contact_law` gives every mesh of a case this
 curve at a torque, as the ``tabulated`` law (k-bar its integral over the path), so
-transients, modes and the contact table run the loaded contact.  What it does not
-carry: the unloaded TE as a displacement excitation, the load dependence during a run
-(the curve is the one of the torque given), pitch deviations tooth by tooth (the first
-mesh cycle's pairs stand for all).
+transients, modes and the contact table run the loaded contact; it also serves meshes
+without gear geometry (their own law spread over a unit face).  A mesh with gear
+geometry runs its loaded contact better as ``Mesh(law="loaded_contact")``
+(:mod:`pygear.assembly.loaded_contact_table`): tabulated over position and load when
+the model is assembled, the loaded TE carried by the TE-equivalent stiffness, per-tooth
+deviations tooth by tooth.  This secant curve leaves out the unloaded TE and takes the
+first mesh cycle's pairs for all teeth.
 """
 
 from __future__ import annotations
