@@ -111,3 +111,18 @@ def test_annex_e_chain_by_hand(nrel):
     assert mesh["f_sh"].value == pytest.approx(f_sh, rel=1e-9)
     assert mesh["K_Hbeta"].value == pytest.approx(hand, rel=1e-9)
     assert f_sh > 1.0  # the model's mismatch matters here (um)
+
+
+def test_the_command_takes_the_model_mismatch(capsys):
+    import json
+
+    from pygear.cli.parser import main
+
+    argv = ["rate", "nrel5mw_drivetrain", "--dynamic-factor", "iso", "--json"]
+    assert main([*argv, "--face-load", "model"]) == 0
+    model = json.loads(capsys.readouterr().out)["meshes"][MESH]
+    assert main([*argv, "--face-load", "iso"]) == 0
+    plain = json.loads(capsys.readouterr().out)["meshes"][MESH]
+    # the drivetrain's case types K_Hbeta of the helical pair: the given value stays
+    assert model["K_Hbeta"] == plain["K_Hbeta"] and "K_Hbeta" in model["given"]
+    assert "f_sh" not in model

@@ -45,6 +45,14 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "at the rated speed (model, the default; ISO's method B where the model cannot "
         "give it, the output says why) or ISO 6336-1 method B (iso)",
     )
+    rate.add_argument(
+        "--face-load",
+        choices=("iso", "model"),
+        default=None,
+        help="K_Hbeta of meshes the case does not give: ISO 6336-1 method C with no shaft "
+        "mismatch (iso) or with the mismatch of the model's static deflection under the "
+        "rated torque (model); default the case's Rating(face_load_from_model=...)",
+    )
     rate.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     rate.add_argument("--out", type=Path, help="write rating.nc, rating.md and rating.png here")
 
@@ -69,6 +77,8 @@ def _rate(args: argparse.Namespace) -> int:
         duty, record, notes = _duty_file(args.duty_cycle, rating.rated_speed_rpm)
         if duty is not None:
             rating = dataclasses.replace(rating, duty_cycle=duty)
+    if args.face_load is not None:
+        rating = dataclasses.replace(rating, face_load_from_model=args.face_load == "model")
     factors: dict = {}
     method = "ISO 6336-1:2019 method B (cl. 6.3), asked for with --dynamic-factor iso"
     if args.dynamic_factor == "model":
