@@ -260,3 +260,27 @@ def test_loaded_contact_needs_geometry_and_one_gear_of_deviations():
     with pytest.raises(CaseError, match="planetary.sun_mesh: both gears carry"):
         deviation_curves(case, [("planetary", "sun", ("planetary.sun", "planetary.planet1"))],
                          True)  # fmt: skip
+
+
+def test_harmonic_balance_sees_the_tip_relief():
+    """cases/loaded_contact_planetary in the harmonic balance (the response reads the
+    mesh stiffness from the same contact table): with the tip relief of the single-pair
+    deflection the sun mesh's periodic force and dynamic TE swing less than with perfect
+    flanks at every carrier speed from 40 to 240 rpm (mesh frequencies 65 to 390 Hz),
+    and near quasi-static (40 rpm) by an order of magnitude, as the LTCA's loaded TE does
+    (Harris 1958).  Measured: force peak to peak 5020 N against 350 N at 40 rpm (14
+    times less), 2.4 to 4 times less from 120 rpm on; dynamic TE 12.9 um against 1.6 um
+    at 40 rpm.  Asserted: half at every speed, a tenth (force) and a fifth (TE) at
+    40 rpm."""
+    from pygear.analysis.response.sweep import forced_response
+
+    case = load_case("loaded_contact_planetary")
+    speeds = np.array([40.0, 80.0, 120.0, 160.0, 200.0, 240.0])
+    swing, dte = [], []
+    for name in ("unmodified", "steady_sensor"):
+        ds = forced_response(case, speeds, scene=case.scene(name), harmonics=32,
+                             stability=False).sel(mesh="sun-planet1")  # fmt: skip
+        swing.append((ds.mesh_force_max - ds.mesh_force_min).values)
+        dte.append(ds.dte_peak_to_peak.values)
+    assert np.all(swing[1] < swing[0] / 2), swing
+    assert swing[1][0] < swing[0][0] / 10 and dte[1][0] < dte[0][0] / 5, (swing, dte)
