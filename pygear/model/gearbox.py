@@ -148,7 +148,7 @@ class ParallelStage:
             path, {"input_gear": self.input_gear, "output_gear": self.output_gear}
         )
         require_axial_position(f"{path}.axial_position", self.axial_position)
-        if self.mesh.law == "potential_energy":
+        if self.mesh.law in ("potential_energy", "loaded_contact"):  # both slice the tooth
             for name in ("input_gear", "output_gear"):
                 check_foundation_bore(f"{path}.{name}", getattr(self, name))
         check_backlash(

@@ -202,8 +202,9 @@ class PlanetaryStage:
             )
         self._validate_radii(path)
         laws = (self.sun_mesh.law, self.ring_mesh.law)
-        if "potential_energy" in laws:
-            members = ("sun", "planet") if laws[0] == "potential_energy" else ("planet",)
+        bodied = ("potential_energy", "loaded_contact")  # laws whose compliance has the bore
+        if any(law in bodied for law in laws):
+            members = ("sun", "planet") if laws[0] in bodied else ("planet",)
             for member in members:
                 check_foundation_bore(f"{path}.{member}", getattr(self, member))
         for name in ("sun_mesh", "ring_mesh"):
