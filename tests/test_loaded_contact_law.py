@@ -114,6 +114,30 @@ def test_load_table_interpolates_between_its_loads():
     assert np.all(k_direct >= k_low * (1 - 1e-9)) and np.all(k_direct <= k_high * (1 + 1e-9))
 
 
+def test_te_equivalent_stiffness_carries_the_loaded_te():
+    """With tip relief (delta_0 != 0): a spring k_e(s) = F_0 / (delta(s) - c) deflects
+    under F_0 by the loaded TE less the constant c (exact but for one division); k_e keeps
+    the LTCA's mean secant stiffness (the bisection's 1e-12); and the pair curve the
+    contact table reads sums over the pairs in contact, p = s + k, to k_e at every
+    tabulated position: 5e-3, the resampling of 40 positions onto 201 samples where a
+    pair's share jumps at the ends of contact (measured 2.5e-3 there, 5e-5 median)."""
+    law = mesh_law(_relieved_case().gearbox.stages[0], "sun")
+    table = law.table
+    stiffness = table.equivalent_stiffness()
+    offset = table.te_offset()
+    assert offset > 0  # the relief opens the flanks: the rigid offset is not zero
+    loaded = table.te_loaded[list(table.force).index(table.operating_force)]
+    np.testing.assert_allclose(table.operating_force / stiffness + offset, loaded,
+                               rtol=1e-13, atol=0)  # fmt: skip
+    assert stiffness.mean() == pytest.approx(table.mean_stiffness(table.operating_force),
+                                             rel=1e-12)  # fmt: skip
+    pair = law.curve * law.mean_stiffness / law.contact_ratio
+    samples = np.linspace(0.0, law.contact_ratio, pair.size)
+    total = sum(np.interp(table.position + k, samples, pair, right=0.0)
+                for k in range(math.ceil(law.contact_ratio) + 1))  # fmt: skip
+    np.testing.assert_allclose(total, stiffness, rtol=5e-3)
+
+
 def _mesh_harmonics(run, mesh: str, frequency: float, harmonics: int = 8) -> float:
     """Root sum square of the mesh force's amplitudes at the first mesh harmonics [N]
     (Hann window over the steady part)."""
