@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,6 +43,7 @@ from .tooth_stiffness import ToothBody
 __all__ = [
     "LOAD_FACTORS",
     "LoadedContactTable",
+    "check_spread",
     "loaded_contact_table",
     "mesh_periodic",
     "operating_force",
@@ -60,6 +62,26 @@ N_POSITION = 40
 
 SAMPLES = 201
 """Samples of a pair curve over the path (the potential-energy law's count)."""
+
+MAX_STIFFNESS_SPREAD = 4.0
+"""Largest over smallest TE-equivalent stiffness over a cycle (or a revolution) that
+passes without a warning: about twice a spur pair's double- over single-contact
+stiffness.  Beyond it the loaded TE varies by about the static deflection itself (a
+light load, a large deviation), where the first-order equivalence with a displacement
+excitation no longer holds and the explicit time loop may need smaller steps."""
+
+
+def check_spread(stiffness: np.ndarray, force: float, path: str) -> None:
+    """Warn when the TE-equivalent stiffness spreads beyond :data:`MAX_STIFFNESS_SPREAD`."""
+    spread = float(stiffness.max() / stiffness.min())
+    if spread > MAX_STIFFNESS_SPREAD:
+        warnings.warn(
+            f"{path}: the loaded_contact law's TE-equivalent stiffness spreads by "
+            f"{spread:.3g} over the cycle at the operating load {force:.6g} N: the loaded "
+            "TE varies by about the static deflection (raise the mesh's line_load to the "
+            "load it runs at, or check the micro-geometry's amounts)",
+            stacklevel=3,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,7 +214,9 @@ def loaded_contact_table(
     mods = tuple(mesh_periodic(m) for m in modifications)
     ds = loaded_contact(geometry, bodies, forces, modifications=mods, n_slice=N_SLICE,
                         n_position=N_POSITION, driving_gear=driving_gear, path=path)  # fmt: skip
-    return _table(ds, forces, force)
+    table = _table(ds, forces, force)
+    check_spread(table.equivalent_stiffness(), force, path)
+    return table
 
 
 def _table(ds, forces: np.ndarray, force: float) -> LoadedContactTable:
@@ -251,7 +275,9 @@ def revolution_pair_curves(
     table = _table(ds, np.array([force]), force)
     loaded, pair_force = table.te_loaded[0], table.pair_force[0]
     mean = table.mean_stiffness(force)
-    shares = pair_force / (loaded - equivalent_offset(force, loaded, mean))[:, None]
+    offset = equivalent_offset(force, loaded, mean)
+    check_spread(force / (loaded - offset), force, path)
+    shares = pair_force / (loaded - offset)[:, None]
     cycle = np.floor(table.position + 1e-9).astype(int)
     fraction = table.position - cycle
     curves = np.empty((teeth, samples))
