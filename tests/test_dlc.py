@@ -254,3 +254,36 @@ def test_batch_resumed_after_a_killed_worker_runs_no_load_case_twice(tmp_path):
     assert len([e for e in entries if e[:2] == ["started", victim]]) >= 2  # redone
     assert (out / "dlc_kill" / "load_spectrum.nc").is_file()
     assert not list((out / "dlc_kill" / "dlc").glob(".*.part"))
+
+
+def test_openfast_load_case_drives_the_scene_with_the_file_torque():
+    from pygear.model.case import load_case
+    from pygear.runs.dlc import load_case_scene, load_case_series
+
+    data = Path(__file__).parent / "data"
+    table = DesignLoadCases(
+        scene="runup", wind_speeds=(12.0,), seeds=(1,), duration=0.4, source="openfast",
+        openfast_files=("nrel5mw_short.out",),
+    )  # fmt: skip
+    table.validate()
+    (load,) = table.load_cases()
+    series = load_case_series(table, load, data)
+    # the file's first 0.4 s (rows 0..8 at 0.05 s), RotTorq 3900 + 10 i kN-m in N m
+    rows = np.arange(9)
+    np.testing.assert_allclose(series.time.values, 0.05 * rows, atol=1e-12)
+    np.testing.assert_allclose(series.rotor_torque.values, (3900.0 + 10 * rows) * 1e3, rtol=1e-14)
+    scene = load_case_scene(load_case("nrel5mw_gearbox"), table, load, series)
+    transient = scene.transient
+    assert transient.drive.kind == "table"
+    np.testing.assert_allclose(transient.drive.torques, (3900.0 + 10 * rows) * 1e3, rtol=1e-14)
+    # the generator law balances the mean torque at the mean speed, from that speed
+    assert transient.load.torque == pytest.approx(np.mean((3900.0 + 10 * rows) * 1e3), rel=1e-14)
+    assert transient.speed_reference_rpm == pytest.approx(np.mean(12.1 + 0.01 * rows), rel=1e-14)
+    assert transient.initial_speed_rpm == transient.speed_reference_rpm
+    assert transient.duration == 0.4 and scene.name == "dlc_12ms_seed1"
+    longer = DesignLoadCases(
+        scene="runup", wind_speeds=(12.0,), seeds=(1,), duration=5.0, source="openfast",
+        openfast_files=("nrel5mw_short.out",),
+    )  # fmt: skip
+    with pytest.raises(CaseError, match="holds 0.5 s, less than the duration 5 s"):
+        load_case_series(longer, longer.load_cases()[0], data)
