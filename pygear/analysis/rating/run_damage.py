@@ -2,7 +2,7 @@
 
 A pygear run records each mesh's force along its line of action (``mesh_force``, by
 ``mesh_label`` such as ``stage1.sun-planet1``).  Its rainflow cycles (ASTM E1049-85,
-the ``rainflow`` package) are gathered into the range x mean matrix that a streamed
+those of the ``rainflow`` package) are gathered into the range x mean matrix that a streamed
 run's reductions write (:class:`pygear.analysis.time.reductions.Pow2Histogram`: bins a
 power of two wide), so a run file's whole record and a file holding only the streamed
 matrices (or a batch's combined matrices in the same variables) give the same damage.
@@ -75,16 +75,16 @@ class CycleMatrix:
 
 
 def cycle_matrix(label: str, force: Sequence[float], bins: int = DEFAULT_BINS) -> CycleMatrix:
-    """The rainflow matrix of a whole record, as a streamed run counts it."""
-    import rainflow
-
-    from ..time.reductions import Pow2Histogram
+    """The rainflow matrix of a whole record, as a streamed run counts it (the same
+    counter, :class:`pygear.analysis.time.reductions.StreamingRainflow`, whose cycles
+    are ``rainflow.extract_cycles``'s: its reversals found by NumPy, only they loop)."""
+    from ..time.reductions import Pow2Histogram, StreamingRainflow
 
     values = np.asarray(force, dtype=float)
     if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
         raise CaseError(f"mesh_force of {label!r} must be a finite record of >= 2 samples")
-    cycles = np.array([(r, m, c) for r, m, c, *_ in rainflow.extract_cycles(values)],
-                      dtype=float).reshape(-1, 3)
+    counter = StreamingRainflow()
+    cycles = np.concatenate([counter.update(values), counter.finish()])
     histogram = Pow2Histogram(2, bins)
     histogram.update(cycles[:, :2], cycles[:, 2])
     counts, edges = histogram.result()
