@@ -1,5 +1,5 @@
 """``pygear response``: options checked before any work, one-line errors, the JSON keys,
-the dataset's CF attributes and the case kinds it refuses for now."""
+the dataset's CF attributes, every gear case kind and the plain rotor's answer."""
 
 from __future__ import annotations
 
@@ -47,15 +47,47 @@ def _no_case(*args, **kwargs):
     raise AssertionError("the case was loaded before the options were checked")
 
 
-@pytest.mark.parametrize("case", ["yang2016_gearbox", "nrel5mw_gearbox", "nrel5mw_drivetrain"])
-def test_multistage_cases_are_refused_in_one_line(case, capsys, tmp_path):
-    """Stages at different mesh frequencies need a multi-frequency balance: not yet,
-    said in one line with exit code 2, no traceback, no file."""
-    code = main(["response", str(ROOT / "cases" / case), "--speeds", "100:200:2",
+KEYS = ("speeds_rpm", "dynamic_factor", "load_sharing", "dte_rms_m", "separation", "stable",
+        "harmonics", "residual")
+
+
+@pytest.mark.parametrize(
+    ("case", "extra", "stages"),
+    [("yang2016_gearbox", [], ["stage1", "stage2"]),
+     ("nrel5mw_drivetrain", ["--no-stability"], ["stage1", "stage2"])],
+)
+def test_multistage_cases_answer_with_every_key(case, extra, stages, capsys, tmp_path):
+    """A gearbox and a drivetrain of several stages (meshes at incommensurate frequencies)
+    go through the multi-frequency balance: every key per speed, every mesh named with
+    its stage, K_gamma for each planetary stage, and the dataset says which method ran."""
+    speeds = "800:1000:2" if case.startswith("yang") else "9:12:2"
+    code = main(["response", str(ROOT / "cases" / case), "--speeds", speeds, "--harmonics", "8",
+                 "--json", "--no-figures", "--out", str(tmp_path), *extra])  # fmt: skip
+    assert code == 0
+    summary = json.loads(capsys.readouterr().out)
+    for key in KEYS:
+        assert key in summary
+    assert len(summary["speeds_rpm"]) == 2
+    assert list(summary["load_sharing"]) == stages
+    assert "parallel.input-output" in summary["dynamic_factor"]
+    assert any(m.startswith("stage2.sun-planet") for m in summary["dynamic_factor"])
+    for values in summary["dynamic_factor"].values():
+        assert len(values) == 2 and all(v > 1 for v in values)  # peak above the mean
+    assert summary["harmonics"] == [8, 8]
+    assert all(r >= 0 for r in summary["residual"])
+    assert summary["stable"] == ([None, None] if extra else [True, True])
+    with open_dataset(tmp_path / "response.nc") as dataset:
+        assert dataset.attrs["method"].startswith("multi-frequency")
+        assert dataset.attrs["frequency_groups"] == 3
+
+
+def test_rotor_case_names_the_unbalance_command(capsys, tmp_path):
+    """A plain rotor has no mesh: one line naming pygear frf, exit 2, no file."""
+    code = main(["response", str(ROOT / "cases" / "friswell_rotor"), "--speeds", "100:200:2",
                  "--out", str(tmp_path)])  # fmt: skip
     err = capsys.readouterr().err.strip()
     assert code == 2
-    assert len(err.splitlines()) == 1 and "not implemented yet" in err
+    assert len(err.splitlines()) == 1 and "pygear frf" in err
     assert not list(tmp_path.iterdir())
 
 
@@ -67,9 +99,7 @@ def test_json_keys_and_dataset(capsys, tmp_path):
                  "--out", str(tmp_path), "--no-figures"])  # fmt: skip
     assert code == 0
     summary = json.loads(capsys.readouterr().out)
-    keys = ("speeds_rpm", "dynamic_factor", "load_sharing", "dte_rms_m", "separation",
-            "stable", "harmonics", "residual")  # fmt: skip
-    for key in keys:
+    for key in KEYS:
         assert key in summary
     assert summary["speeds_rpm"] == [600.0, 750.0, 900.0]
     assert set(summary["dynamic_factor"]) == {

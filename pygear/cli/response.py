@@ -196,6 +196,12 @@ def _response(args: argparse.Namespace) -> int:
     from ..model.case import load_case  # NumPy and the model load only when the command runs
 
     case = load_case(args.case)
+    if case.gearbox is None:
+        raise CaseError(
+            f"case {case.name!r} is a plain rotor (no gear mesh): its response over speed "
+            f"is the unbalance response, pygear frf {args.case} --speeds {args.speeds} "
+            "--unbalance DISC:ME:PHASE"
+        )
     scene = case.scene(args.scene) if args.scene is not None else None
 
     import numpy as np

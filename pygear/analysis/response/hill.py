@@ -232,6 +232,21 @@ def _direct(
     receptance: np.ndarray, coefficients: np.ndarray, response: np.ndarray, h: int
 ) -> np.ndarray:
     """delta_-H..H of (2) by one real LU factorisation (receptances of orders 0..H)."""
+    return real_solve(real_factor(receptance, coefficients, h), response)
+
+
+def real_factor(receptance: np.ndarray, coefficients: np.ndarray, h: int) -> tuple:
+    """LU factors of (2) in real form (unknowns Re delta_0..H, Im delta_1..H).
+
+    Parameters
+    ----------
+    receptance : ndarray, complex, shape (H + 1, n_mesh, n_mesh)
+        G_j, j = 0..H.
+    coefficients : ndarray, complex, shape (>= 6H + 1, n_mesh)
+        c_j over -3H..3H (row 3H is c_0).
+    h : int
+        H.
+    """
     n_mesh = receptance.shape[1]
     c = lambda order: coefficients[3 * h + order]  # noqa: E731 (c_order, any sign)
     j = np.arange(h + 1)
@@ -248,9 +263,16 @@ def _direct(
         [plus.imag.reshape(size, size), minus.real.reshape(size, size)[:, n_mesh:]], axis=1
     )[n_mesh:]
     matrix = np.concatenate([real_rows, imag_rows], axis=0)
+    return scipy.linalg.lu_factor(matrix, check_finite=False), h, n_mesh
+
+
+def real_solve(factor: tuple, response: np.ndarray) -> np.ndarray:
+    """delta_-H..H from :func:`real_factor`'s factors and the right side of harmonics
+    0..H (shape (H + 1, n_mesh); the right side of harmonic -k is its conjugate)."""
+    lu, h, n_mesh = factor
+    size = (h + 1) * n_mesh
     rhs = np.concatenate([response.real.reshape(-1), response.imag[1:].reshape(-1)])
-    factor = scipy.linalg.lu_factor(matrix, check_finite=False)
-    unknowns = scipy.linalg.lu_solve(factor, rhs, check_finite=False)
+    unknowns = scipy.linalg.lu_solve(lu, rhs, check_finite=False)
     half = unknowns[:size].reshape(h + 1, n_mesh).astype(complex)
     half[1:] += 1j * unknowns[size:].reshape(h, n_mesh)
     return np.concatenate([np.conj(half[:0:-1]), half])  # -H..H

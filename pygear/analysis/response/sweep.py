@@ -295,11 +295,19 @@ def sweep_system(
         raise CaseError(f"--tolerance must be > 0 (got {tolerance!r})")
     started = time.perf_counter()
     top = max_harmonics if harmonics == "auto" else int(harmonics)
-    coefficients = fourier_coefficients(system.stiffness_variation, 3 * top)
+    several = system.groups > 1
+    if not several:
+        coefficients = fourier_coefficients(system.stiffness_variation, 3 * top)
     cover = _cover_frequency(system)
     records = []
     with _thread_limit():
         for i, speed in enumerate(speeds):
+            if several:  # incommensurate mesh frequencies: the multi-frequency balance
+                records.append(_quasi_speed(system, float(speed), harmonics, tolerance,
+                                            max_harmonics, cover, stability, segments))
+                if progress is not None:
+                    progress(i + 1, speeds.size)
+                continue
             omega = system.omega(float(speed))
             start = max(AUTO_HARMONICS[0], math.ceil(cover / omega))
             solution = harmonic_balance(
@@ -332,6 +340,27 @@ def sweep_system(
             f"{max_harmonics} harmonics: the lowest speeds need more (--harmonics)"
         )
     return dataset
+
+
+def _quasi_speed(
+    system: ResponseSystem,
+    speed: float,
+    harmonics: int | str,
+    tolerance: float,
+    max_harmonics: int,
+    cover: float,
+    stability: bool,
+    segments: int,
+) -> dict:
+    """One speed of a system of several frequency groups (:mod:`.quasi_sweep`)."""
+    from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
+
+    solution = quasi_balance(system, speed, harmonics, tolerance=tolerance,
+                             max_harmonics=max_harmonics, cover=cover)  # fmt: skip
+    record = quasi_record(system, solution)
+    if stability:
+        record["multiplier"] = quasi_multipliers(system, speed, segments)[0]
+    return record
 
 
 def _speed_record(system: ResponseSystem, solution: HillSolution) -> dict:
@@ -414,7 +443,7 @@ def _dataset(
     stages, sharing = _load_sharing(system, mean)
     _, sharing_peak = _load_sharing(system, stack("force_max"))
     fundamental = np.array([system.omega(s) / (2 * math.pi) for s in speeds])
-    mesh_frequency = fundamental[:, None] * system.mesh_order[None, :]
+    mesh_frequency = np.array([system.mesh_frequencies(s) for s in speeds])
     share = system.mesh_energy_share()
     natural = system.natural_frequencies
     main = int(np.argmax(share))
@@ -496,6 +525,13 @@ def _dataset(
         "main_resonance_speed_rpm": float(speeds[0] * natural[main] / mesh_frequency[0, 0]),
         "method": "harmonic balance (Hill's method), condensed onto the mesh deflections",
     }
+    if system.groups > 1:
+        attrs["method"] = ("multi-frequency harmonic balance on a lattice of combination "
+                           "frequencies, condensed onto the mesh deflections")
+        attrs["group_fundamentals_per_rad_s"] = system.group_fundamentals
+        attrs["mesh_group"] = system.mesh_group.astype(np.int32)
+        attrs["stability"] = ("Floquet stability of every frequency group on its own, the "
+                              "other meshes at mean stiffness (quasi-periodic: no monodromy)")
     return xr.Dataset(data, coords, attrs)
 
 

@@ -30,6 +30,7 @@ at a speed Omega the fundamental is omega_0 = 2 pi nu_0 Omega.
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -45,10 +46,13 @@ from ...linalg import generalized_eigh
 from ...model.case import Case, Scene
 from ...rigid_modes import rigid_body_mask
 
+_log = logging.getLogger("pygear")
+
 __all__ = [
     "DEFAULT_SAMPLES",
     "MAX_MESH_ORDER",
     "ResponseSystem",
+    "frequency_groups",
     "response_system",
 ]
 
@@ -58,9 +62,9 @@ pair entering or leaving contact) between two samples aliases its Fourier coeffi
 by about dk / N: 6e-5 of the jump here, below the accuracy asked of the balance."""
 
 MAX_MESH_ORDER = 8
-"""Largest mesh order (mesh frequency over the fundamental) the balance takes: meshes
-whose common period holds more cycles of the fastest mesh need a multi-frequency
-balance, not implemented yet."""
+"""Largest mesh order (mesh frequency over its group's fundamental): meshes whose common
+period holds more cycles of the fastest mesh form separate frequency groups, balanced
+together by the multi-frequency (quasi-periodic) balance of :mod:`.quasi`."""
 
 SNAP_DENOMINATOR = 64
 SNAP_TOLERANCE = 2e-3
@@ -68,6 +72,10 @@ SNAP_TOLERANCE = 2e-3
 up to :data:`SNAP_DENOMINATOR` are taken as that fraction: the tooth counts fix the
 ratio, while a model's base radii may round it (the study case's sun mesh runs at
 Z_s r_br / r_bs = 95.93 carrier orders against the ring's 96)."""
+
+STAGE_SNAP_TOLERANCE = 2e-2
+"""Snapping tolerance between the meshes of one stage, which share a mesh frequency by
+their tooth counts even where the model's base radii set them further apart."""
 
 
 @dataclass
@@ -105,6 +113,12 @@ class ResponseSystem:
     harmonic_force : ndarray, complex, shape (K, n), optional
         f_k, k = 1..K, of a periodic force f + sum_k (f_k e^{i k omega t} + c.c.) in
         modal coordinates (a transmission-error excitation); None: the static load alone.
+    mesh_group : ndarray of int, shape (n_mesh,), optional
+        Frequency group of every mesh when the meshes run at several fundamentals (a
+        gearbox of several stages); ``stiffness[:, m]`` is then sampled over one period
+        of mesh m's group fundamental, and ``mesh_order`` counts in it.  None: one group.
+    group_fundamentals : ndarray, shape (groups,), optional
+        nu_g: every group's fundamental [Hz] per rad/s of the input member.
     """
 
     eigenvalues: np.ndarray
@@ -123,6 +137,43 @@ class ResponseSystem:
     model: Model | None = None
     attrs: dict = field(default_factory=dict)
     harmonic_force: np.ndarray | None = None
+    mesh_group: np.ndarray | None = None
+    group_fundamentals: np.ndarray | None = None
+
+    @property
+    def groups(self) -> int:
+        """Frequency groups: 1 when every mesh frequency is a small multiple of one
+        fundamental, else one per set of stages whose meshes share one."""
+        return 1 if self.group_fundamentals is None else int(self.group_fundamentals.size)
+
+    def group_omegas(self, speed_rpm: float) -> np.ndarray:
+        """Fundamental angular frequency of every frequency group at an input speed [rad/s]."""
+        if self.group_fundamentals is None:
+            return np.array([self.omega(speed_rpm)])
+        rate = abs(speed_rpm) * math.pi / 30
+        return 2 * math.pi * self.group_fundamentals * rate
+
+    def mesh_frequencies(self, speed_rpm: float) -> np.ndarray:
+        """Mesh frequency of every mesh at an input speed [Hz]."""
+        per_group = self.group_omegas(speed_rpm) / (2 * math.pi)
+        group = np.zeros(self.mesh_order.size, int) if self.mesh_group is None else self.mesh_group
+        return per_group[group] * self.mesh_order
+
+    def group_system(self, group: int) -> ResponseSystem:
+        """The single-frequency system in which only the meshes of ``group`` vary, at the
+        group's fundamental; every other mesh keeps its mean stiffness."""
+        if self.group_fundamentals is None:
+            return self
+        mine = self.mesh_group == group
+        stiffness = np.where(mine[None, :], self.stiffness, self.mean_stiffness[None, :])
+        return replace(
+            self,
+            stiffness=stiffness,
+            fundamental_per_rad_s=float(self.group_fundamentals[group]),
+            mesh_order=np.where(mine, self.mesh_order, 1),
+            mesh_group=None,
+            group_fundamentals=None,
+        )
 
     @property
     def size(self) -> int:
@@ -174,20 +225,26 @@ def _input_output(case: Case, scene: Scene | None) -> tuple[str, str | None, flo
     return case.gearbox.input, case.gearbox.output, torque
 
 
-def _snap(ratio: float) -> Fraction:
-    snapped = Fraction(ratio).limit_denominator(SNAP_DENOMINATOR)
-    if abs(float(snapped) - ratio) > SNAP_TOLERANCE * ratio:
+def _snap(ratio: float, tolerance: float = SNAP_TOLERANCE) -> Fraction:
+    # a looser tolerance goes with smaller denominators, or it would snap to anything
+    denominator = SNAP_DENOMINATOR if tolerance <= SNAP_TOLERANCE else MAX_MESH_ORDER
+    snapped = Fraction(ratio).limit_denominator(denominator)
+    if abs(float(snapped) - ratio) > tolerance * ratio:
         raise CaseError(f"mesh frequency ratio {ratio:.8g} is no ratio of small whole numbers")
     return snapped
 
 
-def mesh_orders(frequencies: np.ndarray) -> tuple[np.ndarray, float, float]:
+def mesh_orders(
+    frequencies: np.ndarray, tolerance: float = SNAP_TOLERANCE
+) -> tuple[np.ndarray, float, float]:
     """Whole mesh orders over a common fundamental.
 
     Parameters
     ----------
     frequencies : ndarray
         Mesh frequencies (any common unit), positive.
+    tolerance : float
+        Largest relative change snapping may make to a ratio.
 
     Returns
     -------
@@ -199,7 +256,7 @@ def mesh_orders(frequencies: np.ndarray) -> tuple[np.ndarray, float, float]:
         Largest relative change snapping made to a ratio.
     """
     slowest = float(frequencies.min())
-    ratios = [_snap(f / slowest) for f in frequencies]
+    ratios = [_snap(f / slowest, tolerance) for f in frequencies]
     lcm_den = 1
     for r in ratios:
         lcm_den = lcm_den * r.denominator // math.gcd(lcm_den, r.denominator)
@@ -211,6 +268,86 @@ def mesh_orders(frequencies: np.ndarray) -> tuple[np.ndarray, float, float]:
     fundamental = slowest * common / lcm_den
     snap = max(abs(float(r) * slowest - f) / f for r, f in zip(ratios, frequencies))
     return orders, fundamental, snap
+
+
+def frequency_groups(
+    frequencies: np.ndarray, stages: list[str]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Meshes gathered into groups that share one fundamental.
+
+    All meshes form one group when their frequencies are whole multiples of one
+    fundamental with orders up to :data:`MAX_MESH_ORDER`.  Otherwise the meshes are taken
+    stage by stage, each into the first group whose union with it keeps such orders, else
+    into a new group: a stage's meshes share their mesh frequency and form one group,
+    unless the model's base radii set its sun and ring meshes apart by more than the
+    snapping tolerance: those meshes share a mesh frequency by their tooth counts,
+    so within a stage ratios are snapped up to :data:`STAGE_SNAP_TOLERANCE`, with a
+    warning (the balance then runs the stage at one mesh frequency, the transient at
+    the model's two).
+
+    Parameters
+    ----------
+    frequencies : ndarray
+        Mesh frequencies per rad/s of the input [Hz s/rad].
+    stages : list of str
+        Each mesh's stage.
+
+    Returns
+    -------
+    group : ndarray of int
+        Each mesh's group, numbered in the order of first appearance.
+    orders : ndarray of int
+        Each mesh's frequency over its group's fundamental.
+    fundamentals : ndarray
+        Every group's fundamental [Hz s/rad].
+    snap : float
+        Largest relative change snapping made to a ratio.
+
+    """
+
+    def orders_of(members: list[int], tolerance: float = SNAP_TOLERANCE) -> tuple | None:
+        try:
+            found = mesh_orders(frequencies[members], tolerance)
+        except CaseError:
+            return None
+        return found if found[0].max() <= MAX_MESH_ORDER else None
+
+    everything = list(range(frequencies.size))
+    sets: list[list[int]] = []
+    if orders_of(everything) is not None:
+        sets = [everything]
+    else:
+        for stage in dict.fromkeys(stages):  # stage by stage, into the first group it fits
+            members = [i for i in everything if stages[i] == stage]
+            tolerance = SNAP_TOLERANCE
+            if orders_of(members) is None and orders_of(members, STAGE_SNAP_TOLERANCE):
+                tolerance = STAGE_SNAP_TOLERANCE
+                _, _, off = orders_of(members, tolerance)
+                _log.warning(
+                    f"response: stage {stage!r}'s meshes run {100 * off:.2f} % apart in "
+                    "the model's kinematics (base radii against tooth counts); the "
+                    "balance runs them at one mesh frequency"
+                )
+            for existing in sets:
+                if orders_of(existing + members, tolerance) is not None:
+                    existing.extend(members)
+                    break
+            else:
+                if orders_of(members, tolerance) is not None:
+                    sets.append(members)
+                else:  # meshes of a stage at unrelated frequencies: one group each
+                    sets.extend([m] for m in members)
+    group = np.zeros(frequencies.size, np.int64)
+    orders = np.zeros(frequencies.size, np.int64)
+    fundamentals = np.zeros(len(sets))
+    snap = 0.0
+    for g, members in enumerate(sets):
+        n, f0, s = orders_of(sorted(members)) or orders_of(sorted(members), STAGE_SNAP_TOLERANCE)
+        group[sorted(members)] = g
+        orders[sorted(members)] = n
+        fundamentals[g] = f0
+        snap = max(snap, s)
+    return group, orders, fundamentals, snap
 
 
 def response_system(
@@ -245,7 +382,7 @@ def response_system(
     ------
     CaseError
         No meshes, no single rigid rotation through the input member, or meshes
-        without a common period of a few mesh cycles.
+        or a mesh that does not turn with the input member.
     """
     if not (isinstance(samples, int) and samples >= 64):
         raise CaseError(f"samples must be a whole number >= 64 (got {samples!r})")
@@ -297,18 +434,9 @@ def response_system(
     frequency = table.teeth[0] * np.abs(rates) / (2 * math.pi)  # Hz per rad/s of the input
     if np.any(frequency <= 0):
         raise CaseError("a mesh does not turn in the rigid rotation of the input member")
-    try:
-        orders, fundamental, snapped = mesh_orders(frequency)
-    except CaseError as error:
-        orders, why = None, str(error)
-    else:
-        why = f"a common period of {int(orders.max())} cycles of the fastest mesh"
-    if orders is None or orders.max() > MAX_MESH_ORDER:
-        raise CaseError(
-            f"case {case.name!r}: its meshes run at different mesh frequencies ({why}); "
-            "several stages need a multi-frequency balance, not implemented yet "
-            "(a single planetary stage or gear pair works)"
-        )
+    stages_of = [m.stage for m in model.meshes]
+    group, orders, fundamentals, snapped = frequency_groups(frequency, stages_of)
+    fundamental = float(fundamentals[0])
     mean = np.array([m.mean_stiffness for m in model.meshes])
     tau = np.arange(samples) / samples
     if time_varying:
@@ -329,6 +457,8 @@ def response_system(
         contact_sign=sign,
         mesh_order=orders,
         fundamental_per_rad_s=fundamental,
+        mesh_group=group if fundamentals.size > 1 else None,
+        group_fundamentals=fundamentals if fundamentals.size > 1 else None,
         names=names,
         stages=[m.stage for m in model.meshes],
         planets=[int(m.planet) for m in model.meshes],
@@ -345,7 +475,8 @@ def response_system(
             "time_varying_mesh_stiffness": int(time_varying),
             "mesh_ratio_snap": snapped,
             "stiffness_samples": samples,
-            "mesh_stages": ",".join(m.stage for m in model.meshes),
+            "mesh_stages": ",".join(stages_of),
+            "frequency_groups": int(fundamentals.size),
         },
     )
 
