@@ -31,7 +31,7 @@ SOURCE = Path(__file__).resolve().parent / "bare_newmark.f90.in"
 CHOLMOD_SHIM = Path(__file__).resolve().parent.parent / "fortran" / "cholmod_shim.c"
 SUITESPARSE_INCLUDE = Path("/usr/include/suitesparse")
 """Where Debian's libsuitesparse-dev puts cholmod.h (as meson.build looks for it)."""
-VARIANTS = ("band", "inverse", "dense_blas", "dense_loop", "sparse")
+VARIANTS = ("band", "inverse", "dense_blas", "dense_loop", "refined", "dense_cholesky", "sparse")
 """Linear solves of the bare loop (see bare_newmark.f90.in)."""
 
 
@@ -51,6 +51,9 @@ class LoopArrays:
     pattern: tuple  # CSC lower triangle (0-based pointers, rows) of M, C, K0 together
     pattern_values: tuple  # C, K0 and Khat on the pattern
     fused: np.ndarray  # X, n x (2n + M + 2)
+    right_side: np.ndarray  # S = s [-C, -K0, w_in, -w_out, -B^T], X = Khat^-1 S
+    restoring: np.ndarray  # [-C; -K0], 2n x n
+    khat: np.ndarray  # Khat, dense
     arguments: dict  # the kernel's packed sparse rows of meshes, angles and members
     deflection: np.ndarray  # B, M x n
     angle: np.ndarray  # angle rows, M x n
@@ -97,9 +100,10 @@ def loop_arrays(problem) -> LoopArrays:
     w_in, w_out = _rows(*(arguments[f"load_{k}"] for k in ("ptr", "index", "value")), n)
     deflection = _rows(*(arguments[f"mesh_{k}"] for k in ("ptr", "index", "value")), n)
     angle = _rows(*(arguments[f"angle_{k}"] for k in ("ptr", "index", "value")), n)
-    fused = s * inverse @ np.hstack(
+    right_side = s * np.hstack(
         [-damping, -stiffness, np.column_stack([w_in, -w_out, -deflection.T])]
     )
+    fused = inverse @ right_side
     table = solver.table
     drive, load = (arguments["law_param"][:, k] for k in range(2))
     lower = np.tril((mass != 0) | (damping != 0) | (stiffness != 0))
@@ -118,6 +122,9 @@ def loop_arrays(problem) -> LoopArrays:
         pattern=(column_start.astype(np.int32), rows.astype(np.int32)),
         pattern_values=(damping[rows, columns], stiffness[rows, columns], khat[rows, columns]),
         fused=fused,
+        right_side=right_side,
+        restoring=np.vstack([-damping, -stiffness]),
+        khat=khat,
         arguments=arguments,
         deflection=deflection,
         angle=angle,
@@ -339,6 +346,7 @@ class BareLoop:
                  len(arrays.linear), len(arrays.forces)]
         settings = [arrays.time_step, arrays.beta, arrays.gamma, arrays.drive, *arrays.load,
                     arrays.speed_reference]
+        s = 1.0 / (arrays.beta * arrays.time_step**2)
         with open(self.input, "wb") as handle:
             for block in (
                 np.array(sizes, int32),
@@ -357,6 +365,11 @@ class BareLoop:
                 np.array([len(arrays.pattern[1])], int32),
                 *arrays.pattern,
                 *arrays.pattern_values,
+                arrays.restoring,
+                -arrays.khat / s,
+                s * arrays.inverse.T,
+                arrays.right_side.T,
+                np.linalg.cholesky(arrays.khat),
             ):
                 np.asarray(block).ravel(order="F").tofile(handle)
 
