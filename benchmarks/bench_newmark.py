@@ -17,7 +17,7 @@ and reporting medians:
   solve through the kernel's own C shim after one pass over the CSC pattern for
   C v + K0 q; band products and dpbtrs; one fused dgemv per step for the dense inverse
   (the fastest algorithm at these sizes, but not backward stable); that dgemv and one
-  step of iterative refinement (three dgemv, the refined path's algorithm); and the
+  step of iterative refinement (three more dgemv, the refined path's algorithm); and the
   right-hand side by one dgemv with two triangular solves on a dense Cholesky factor
   (the other backward stable dense algorithm, measured to choose between the two);
 * a plain fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a

@@ -41,7 +41,7 @@
 !> kappa(Khat) u |X| |f| (u the unit round-off), and X_K r, X_C r for a rigid rotation r
 !> are not 0 but fixed errors that the growing angles and the speed multiply, so over a
 !> long run the rigid mode's torque balance drifts (3.6e-8 of the speed after 1e6 steps
-!> of the study case at 2000 rpm, against 1e-11 on the band factor).  After one step of
+!> of the study case at 2000 rpm, against 4e-11 on the band factor).  After one step of
 !> refinement the step's residual is that of forming r0 + l and Khat a / s in floating
 !> point, of order u (|C| |w_c| + |K0| |w_k| + |l| + |Khat| |a| / s): the step is
 !> backward stable, as a factorization's, as long as kappa(Khat) u << 1 (Higham,

@@ -127,20 +127,23 @@ def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tup
     ``dense_refined`` keeps s Khat^-1 times the step's matrices and load vectors, spends
     one dense matrix-vector product per solve, and follows it with one step of iterative
     refinement against Khat (the residual from C, K0, the loads and Khat, corrected with
-    s Khat^-1): three dense products per solve, about 4 n^2 multiplications, and a step
-    as backward stable as a factorization's (``fortran/newmark_dense.f90``).
+    s Khat^-1): four dense products per solve, about n (6 n + M + 2) multiplications for
+    M meshes, and a step as backward stable as a factorization's
+    (``fortran/newmark_dense.f90``).
     ``dense_inverse`` is the same product without the refinement, the fastest step but
     not backward stable: over 1e6 steps of the study case at 2000 rpm its speeds drift
-    to 3.6e-8 of their value, against 4e-11 refined and 1e-11 on the band factor
+    to 3.6e-8 of their value, against 7e-11 refined and 4e-11 on the band factor
     (``tests/test_dense_refinement.py``); it runs only on request.  ``banded_cholesky``
     multiplies by the band matrices and solves with the banded Cholesky factor, about
     n (kd + 1) multiplications per product or triangular solve.  On the 2-core AVX2
-    machine of ``benchmarks/bench_newmark.py`` the refined dense path was the fastest
-    stable one from 12 to 40 DOFs (chains of half-widths 2 to 20: 0.66 to 0.91 times
-    CHOLMOD's sparse step, the study case 0.94), and slower below 10 DOFs (its three
-    BLAS calls cost more than a small factor's solve: 1.2 times at 4 DOFs, even at 8) and on the
-    50-DOF gearbox (1.35 times), so ``auto`` takes it within :data:`DENSE_REFINED_DOFS`
-    and leaves larger models to the band and sparse factors
+    machine of ``benchmarks/bench_newmark.py`` (docs/performance.md) the refined dense
+    path was the fastest stable one on the study case (0.85 times CHOLMOD's sparse step)
+    and on spring lattices of 12 to 40 DOFs with half-widths 2 to 20 (0.66 to 0.91
+    times), within 10 % of CHOLMOD either way on narrow bands at 24 to 30 DOFs (the NREL
+    drivetrain, a lattice of half-width 2), and slower below 10 DOFs (its four BLAS
+    calls cost more than a small factor's solve: 1.2 times at 4 DOFs) and on the 50- and
+    54-DOF gearboxes (1.13 and 1.2 times), so ``auto`` takes it within
+    :data:`DENSE_REFINED_DOFS` and leaves other models to the band and sparse factors
     (:func:`~pygear.kernel.newmark_storage.kernel_storage`).  ``requested`` (or the
     environment variable :data:`LINEAR_SOLVER_VARIABLE`, which wins) forces a path.
     """
