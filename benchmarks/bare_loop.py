@@ -61,6 +61,7 @@ class LoopArrays:
     w_out: np.ndarray
     mean_stiffness: np.ndarray
     contact_sign: np.ndarray
+    mesh_damping: np.ndarray  # c_m, in the mesh-force channels: F = s (k b.q + c_m b.v)
     teeth: np.ndarray  # Z1 per mesh
     cycle_sign: np.ndarray
     phase: np.ndarray
@@ -132,6 +133,7 @@ def loop_arrays(problem) -> LoopArrays:
         w_out=w_out,
         mean_stiffness=np.asarray(arguments["mean_stiffness"], dtype=np.float64),
         contact_sign=np.asarray(arguments["contact_sign"], dtype=np.float64),
+        mesh_damping=np.asarray(arguments["mesh_damping"], dtype=np.float64),
         teeth=table.teeth[0].astype(np.float64),
         cycle_sign=table.cycle_sign.astype(np.float64),
         phase=np.asarray(table.phase, dtype=np.float64),
@@ -213,6 +215,11 @@ def numpy_fused(
     channels = slice(len(rows), len(rows) + len(arrays.linear) + len(arrays.forces))
     rows += [row(v=w) if kind == "velocity" else row(a=w) for _, kind, w in arrays.linear]
     rows += [row(q=arrays.contact_sign[m] * arrays.deflection[m]) for _, m in arrays.forces]
+    dampers = slice(len(rows), len(rows) + len(arrays.forces))  # s c_m b.v of each force
+    rows += [
+        row(v=arrays.contact_sign[m] * arrays.mesh_damping[m] * arrays.deflection[m])
+        for _, m in arrays.forces
+    ]
     speed_in = len(rows)
     rows += [row(v=arrays.w_in)]  # input speed
     cycles = slice(len(rows), len(rows) + n_mesh)  # next tooth-passing cycles Z A qt / 2 pi
@@ -271,6 +278,7 @@ def numpy_fused(
             t_s = step * dt + dt * (omega_0 - speed_old) / (speed - speed_old)
         samples[:n_channels, step] = out[channels]
         samples[force_rows, step] *= k[force_mesh]
+        samples[force_rows, step] += out[dampers]
         samples[n_channels + 1, step] = load
     return samples, t_s
 
@@ -370,6 +378,7 @@ class BareLoop:
                 s * arrays.inverse.T,
                 arrays.right_side.T,
                 np.linalg.cholesky(arrays.khat),
+                arrays.mesh_damping,
             ):
                 np.asarray(block).ravel(order="F").tofile(handle)
 
