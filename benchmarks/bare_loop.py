@@ -31,7 +31,7 @@ SOURCE = Path(__file__).resolve().parent / "bare_newmark.f90.in"
 CHOLMOD_SHIM = Path(__file__).resolve().parent.parent / "fortran" / "cholmod_shim.c"
 SUITESPARSE_INCLUDE = Path("/usr/include/suitesparse")
 """Where Debian's libsuitesparse-dev puts cholmod.h (as meson.build looks for it)."""
-VARIANTS = ("band", "inverse", "dense_blas", "dense_loop", "sparse")
+VARIANTS = ("band", "inverse", "dense_blas", "dense_loop", "refined", "dense_cholesky", "sparse")
 """Linear solves of the bare loop (see bare_newmark.f90.in)."""
 
 
@@ -51,6 +51,9 @@ class LoopArrays:
     pattern: tuple  # CSC lower triangle (0-based pointers, rows) of M, C, K0 together
     pattern_values: tuple  # C, K0 and Khat on the pattern
     fused: np.ndarray  # X, n x (2n + M + 2)
+    right_side: np.ndarray  # S = s [-C, -K0, w_in, -w_out, -B^T], X = Khat^-1 S
+    restoring: np.ndarray  # [-C; -K0], 2n x n
+    khat: np.ndarray  # Khat, dense
     arguments: dict  # the kernel's packed sparse rows of meshes, angles and members
     deflection: np.ndarray  # B, M x n
     angle: np.ndarray  # angle rows, M x n
@@ -58,6 +61,7 @@ class LoopArrays:
     w_out: np.ndarray
     mean_stiffness: np.ndarray
     contact_sign: np.ndarray
+    mesh_damping: np.ndarray  # c_m, in the mesh-force channels: F = s (k b.q + c_m b.v)
     teeth: np.ndarray  # Z1 per mesh
     cycle_sign: np.ndarray
     phase: np.ndarray
@@ -97,9 +101,10 @@ def loop_arrays(problem) -> LoopArrays:
     w_in, w_out = _rows(*(arguments[f"load_{k}"] for k in ("ptr", "index", "value")), n)
     deflection = _rows(*(arguments[f"mesh_{k}"] for k in ("ptr", "index", "value")), n)
     angle = _rows(*(arguments[f"angle_{k}"] for k in ("ptr", "index", "value")), n)
-    fused = s * inverse @ np.hstack(
+    right_side = s * np.hstack(
         [-damping, -stiffness, np.column_stack([w_in, -w_out, -deflection.T])]
     )
+    fused = inverse @ right_side
     table = solver.table
     drive, load = (arguments["law_param"][:, k] for k in range(2))
     lower = np.tril((mass != 0) | (damping != 0) | (stiffness != 0))
@@ -118,6 +123,9 @@ def loop_arrays(problem) -> LoopArrays:
         pattern=(column_start.astype(np.int32), rows.astype(np.int32)),
         pattern_values=(damping[rows, columns], stiffness[rows, columns], khat[rows, columns]),
         fused=fused,
+        right_side=right_side,
+        restoring=np.vstack([-damping, -stiffness]),
+        khat=khat,
         arguments=arguments,
         deflection=deflection,
         angle=angle,
@@ -125,6 +133,7 @@ def loop_arrays(problem) -> LoopArrays:
         w_out=w_out,
         mean_stiffness=np.asarray(arguments["mean_stiffness"], dtype=np.float64),
         contact_sign=np.asarray(arguments["contact_sign"], dtype=np.float64),
+        mesh_damping=np.asarray(arguments["mesh_damping"], dtype=np.float64),
         teeth=table.teeth[0].astype(np.float64),
         cycle_sign=table.cycle_sign.astype(np.float64),
         phase=np.asarray(table.phase, dtype=np.float64),
@@ -206,6 +215,11 @@ def numpy_fused(
     channels = slice(len(rows), len(rows) + len(arrays.linear) + len(arrays.forces))
     rows += [row(v=w) if kind == "velocity" else row(a=w) for _, kind, w in arrays.linear]
     rows += [row(q=arrays.contact_sign[m] * arrays.deflection[m]) for _, m in arrays.forces]
+    dampers = slice(len(rows), len(rows) + len(arrays.forces))  # s c_m b.v of each force
+    rows += [
+        row(v=arrays.contact_sign[m] * arrays.mesh_damping[m] * arrays.deflection[m])
+        for _, m in arrays.forces
+    ]
     speed_in = len(rows)
     rows += [row(v=arrays.w_in)]  # input speed
     cycles = slice(len(rows), len(rows) + n_mesh)  # next tooth-passing cycles Z A qt / 2 pi
@@ -264,6 +278,7 @@ def numpy_fused(
             t_s = step * dt + dt * (omega_0 - speed_old) / (speed - speed_old)
         samples[:n_channels, step] = out[channels]
         samples[force_rows, step] *= k[force_mesh]
+        samples[force_rows, step] += out[dampers]
         samples[n_channels + 1, step] = load
     return samples, t_s
 
@@ -339,6 +354,7 @@ class BareLoop:
                  len(arrays.linear), len(arrays.forces)]
         settings = [arrays.time_step, arrays.beta, arrays.gamma, arrays.drive, *arrays.load,
                     arrays.speed_reference]
+        s = 1.0 / (arrays.beta * arrays.time_step**2)
         with open(self.input, "wb") as handle:
             for block in (
                 np.array(sizes, int32),
@@ -357,6 +373,12 @@ class BareLoop:
                 np.array([len(arrays.pattern[1])], int32),
                 *arrays.pattern,
                 *arrays.pattern_values,
+                arrays.restoring,
+                -arrays.khat / s,
+                s * arrays.inverse.T,
+                arrays.right_side.T,
+                np.linalg.cholesky(arrays.khat),
+                arrays.mesh_damping,
             ):
                 np.asarray(block).ravel(order="F").tofile(handle)
 

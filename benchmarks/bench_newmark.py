@@ -7,16 +7,19 @@ the output reversed), this measures, alternating within each of ``--repeats`` re
 and reporting medians:
 
 * the kernel: microseconds per step inside ``transient_advance`` (chunks of steps per
-  call; Python only between chunks), on the path the automatic choice takes (CHOLMOD's
-  sparse factor for both cases) and forced onto the banded path and onto the dense
-  inverse (``dense_inverse``, on request only);
-* the floors, the bare Fortran loops of the three algorithms that this benchmark
-  compiles (``bare_newmark.f90.in`` through ``bare_loop.py``: gfortran -O3, linked
-  against the same scipy-openblas32 OpenBLAS, the same channels recorded every step):
-  CHOLMOD's solve through the kernel's own C shim after one pass over the CSC pattern
-  for C v + K0 q; band products and dpbtrs; one fused dgemv per step for the dense
-  inverse (the fastest algorithm at these sizes, but not backward stable, hence not the
-  default);
+  call; Python only between chunks), on the path the automatic choice takes (the refined
+  dense path for the study case, CHOLMOD's sparse factor for the gearbox) and forced
+  onto each other path: CHOLMOD, the banded path and the bare dense inverse
+  (``dense_inverse``, on request only);
+* the floors, the bare Fortran loops of the algorithms that this benchmark compiles
+  (``bare_newmark.f90.in`` through ``bare_loop.py``: gfortran -O3, linked against the
+  same scipy-openblas32 OpenBLAS, the same channels recorded every step): CHOLMOD's
+  solve through the kernel's own C shim after one pass over the CSC pattern for
+  C v + K0 q; band products and dpbtrs; one fused dgemv per step for the dense inverse
+  (the fastest algorithm at these sizes, but not backward stable); that dgemv and one
+  step of iterative refinement (three more dgemv, the refined path's algorithm); and the
+  right-hand side by one dgemv with two triangular solves on a dense Cholesky factor
+  (the other backward stable dense algorithm, measured to choose between the two);
 * a plain fused NumPy loop of the same algorithm (``bare_loop.numpy_fused``: a
   precomputed dense inverse folded with the state update and every read-out into one
   matrix-vector product per step, each mesh's own contact law and no other, the same
@@ -84,6 +87,12 @@ def problem_for(steps: int, probes: tuple | None = None, linear_solver: str | No
             os.environ[LINEAR_SOLVER_VARIABLE] = forced
 
 
+def _kernel_has_cholmod() -> bool:
+    from pygear.kernel.newmark_storage import cholmod_available
+
+    return cholmod_available()
+
+
 def kernel_run(problem, steps: int):
     return problem.solver.run(steps, problem.probes, decimation=problem.settings.decimation)
 
@@ -129,6 +138,12 @@ def main() -> None:
     problem = problem_for(args.steps)
     banded = problem_for(args.steps, linear_solver="banded_cholesky")
     inverse = problem_for(args.steps, linear_solver="dense_inverse")
+    paths = {"banded_cholesky": banded, "dense_inverse": inverse}
+    for path in ("dense_refined", "sparse_cholesky"):
+        if path != problem.solver.linear_solver and (
+            path != "sparse_cholesky" or _kernel_has_cholmod()
+        ):
+            paths[path] = problem_for(args.steps, linear_solver=path)
     solver = problem.solver
     print(
         f"{CASES[CASE][0]} {CASES[CASE][1]}: {problem.model.size} DOFs, "
@@ -140,20 +155,32 @@ def main() -> None:
     )
     arrays = loop_arrays(banded)  # the bare loops read the band matrices
     bare = BareLoop(arrays, args.steps)
-    for warm in (problem, banded, inverse):
+    for warm in (problem, *paths.values()):
         kernel_run(warm, 2000)
 
-    rows = {  # name: (function giving CPU us per step, kernel it is compared with)
-        "kernel": lambda: kernel_times(problem, args.steps),
-        "kernel, banded path": lambda: kernel_times(banded, args.steps),
-        "kernel, dense inverse": lambda: kernel_times(inverse, args.steps),
-        "bare loop, banded": lambda: (bare.run("band").cpu_us_per_step, None),
-        "bare loop, dense inverse": lambda: (bare.run("dense_blas").cpu_us_per_step, None),
-        "fused NumPy loop": lambda: (_numpy_cpu_us(arrays, args.numpy_steps), None),
-        "NumPy loop, no checks": lambda: (_numpy_cpu_us(arrays, args.numpy_steps, False), None),
+    def kernel_row(measured):
+        return lambda: kernel_times(measured, args.steps)
+
+    def bare_row(variant):
+        return lambda: (bare.run(variant).cpu_us_per_step, None)
+
+    rows = {"kernel": kernel_row(problem)}  # name: function giving CPU us per step
+    names = {  # kernel path: its row and the bare loop of its algorithm
+        "dense_refined": ("kernel, refined dense", "bare loop, refined dense", "refined"),
+        "sparse_cholesky": ("kernel, CHOLMOD", "bare loop, CHOLMOD", "sparse"),
+        "banded_cholesky": ("kernel, banded path", "bare loop, banded", "band"),
+        "dense_inverse": ("kernel, dense inverse", "bare loop, dense inverse", "dense_blas"),
     }
-    if solver.linear_solver == "sparse_cholesky":  # built with CHOLMOD: its floor too
-        rows["bare loop, CHOLMOD"] = lambda: (bare.run("sparse").cpu_us_per_step, None)
+    floors = {}
+    for path, (kernel_name, bare_name, variant) in names.items():
+        if path in paths:
+            rows[kernel_name] = kernel_row(paths[path])
+        if path in paths or path == solver.linear_solver:
+            rows[bare_name] = bare_row(variant)
+            floors[path] = bare_name
+    rows["bare loop, dense Cholesky"] = bare_row("dense_cholesky")
+    rows["fused NumPy loop"] = lambda: (_numpy_cpu_us(arrays, args.numpy_steps), None)
+    rows["NumPy loop, no checks"] = lambda: (_numpy_cpu_us(arrays, args.numpy_steps, False), None)
     times: dict[str, list[float]] = {name: [] for name in rows}
     wall: dict[str, list[float]] = {name: [] for name in rows if name.startswith("kernel")}
     for _ in range(args.repeats):  # alternating, so that every repeat sees the same machine
@@ -173,36 +200,30 @@ def main() -> None:
             line += f"   (wall clock {statistics.median(wall[name]):.3f})"
         print(line)
     print("ratios, medians over the repeats:")
-    if "bare loop, CHOLMOD" in times:
-        print(
-            f"  kernel (CHOLMOD) / bare CHOLMOD loop        "
-            f"{ratio('kernel', 'bare loop, CHOLMOD'):6.2f}"
-        )
-    print(
-        f"  banded kernel / bare banded loop            "
-        f"{ratio('kernel, banded path', 'bare loop, banded'):6.2f}"
-    )
-    print(
-        f"  dense-inverse kernel / bare inverse loop    "
-        f"{ratio('kernel, dense inverse', 'bare loop, dense inverse'):6.2f}"
-    )
-    print(
-        f"  kernel (CHOLMOD) / bare inverse loop        "
-        f"{ratio('kernel', 'bare loop, dense inverse'):6.2f}   (another algorithm)"
-    )
+    default = solver.linear_solver
+    for path, bare_name in floors.items():  # each kernel path against its own floor
+        kernel_name = "kernel" if path == default else names[path][0]
+        label = f"{kernel_name} ({path}) / {bare_name}"
+        print(f"  {label:58s} {ratio(kernel_name, bare_name):6.2f}")
+    others = ("bare loop, dense inverse", "bare loop, dense Cholesky", "bare loop, CHOLMOD")
+    for bare_name in others:
+        if bare_name in times and bare_name != floors.get(default):
+            label = f"kernel ({default}) / {bare_name}"
+            print(f"  {label:58s} {ratio('kernel', bare_name):6.2f}   (another algorithm)")
+    for path in paths:
+        label = f"{names[path][0]} / kernel ({default})"
+        print(f"  {label:58s} {ratio(names[path][0], 'kernel'):6.2f}")
     numpy_ratio = ratio("fused NumPy loop", "kernel")
     print(f"  fused NumPy loop / kernel                   {numpy_ratio:6.1f}")
     unchecked = ratio("NumPy loop, no checks", "kernel")
     print(f"  NumPy loop without the checks / kernel      {unchecked:6.1f}   (does less)")
-    banded_ratio = ratio("kernel, banded path", "kernel")
-    print(f"  banded kernel / kernel                      {banded_ratio:6.2f}")
 
     # the same trajectory: every channel of the kernel, the bare loop and the NumPy loop,
     # against the largest value of its kind (a symmetric stage's ring acceleration is zero
     # in exact arithmetic: round-off against the other accelerations)
     result = kernel_run(problem_for(args.numpy_steps), args.numpy_steps)
     reference, numpy_t_s = numpy_fused(arrays, args.numpy_steps)
-    floor = bare.run("dense_blas")
+    floor = bare.run(names[default][2])
     names = [probe.name for probe in problem.probes]
     kinds = [kind for _, kind, _ in arrays.linear] + ["force"] * len(arrays.forces) + ["torque"] * 2
     kernel = np.array([result.samples[names.index(name), 1:] for name in arrays.names])

@@ -19,7 +19,9 @@
 !> solve is a product with a dense operator (module newmark_dense) that the problem
 !> keeps at mean mesh stiffness; an advance forms it at the run's k_factored when a
 !> refactor moved that, so the run's state stays the same on both paths (khat_factor,
-!> the band factor, is used on the banded path only).  On the sparse path
+!> the band factor, is used on the banded path only).  The refined dense path
+!> (solver_refined) follows each product with one step of iterative refinement against
+!> Khat, which makes the step backward stable (module newmark_dense).  On the sparse path
 !> (solver_sparse, module newmark_sparse) the matrices are sparse and each solve uses
 !> the problem's CHOLMOD factor of Khat, refactored numerically in refactor mode (and
 !> first to the run's k_factored when another run left it elsewhere).
@@ -90,7 +92,8 @@ module newmark
   use newmark_sparse, only: solve_khat, solve_mass, refactor_khat, so_ok
   use newmark_probes, only: record_probes
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
-  use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update
+  use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update, &
+                           refined_stiffness, refine_solution
   implicit none
   private
 
@@ -301,6 +304,7 @@ contains
     real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :), k_coast(:), offset(:)
     real(dp), allocatable :: fused(:), a_base(:), load_old(:), x_transposed(:, :)
     real(dp), allocatable :: rate(:), rate_t(:), c_off(:)
+    real(dp), allocatable :: refine_operator(:, :), refine_inverse(:, :), refine_work(:)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:), flips(:)
     logical, allocatable :: damper_on(:)
     type(tooth_contact_table) :: table, coast_table
@@ -310,7 +314,7 @@ contains
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
-    logical :: damped
+    logical :: damped, refined
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -365,7 +369,8 @@ contains
     c_off = 0.0_dp
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
     allocate (tooth(2, problem%table%max_pairs, n_mesh))
-    dense = problem%iparam(ip_solver) == solver_dense
+    refined = problem%iparam(ip_solver) == solver_refined
+    dense = problem%iparam(ip_solver) == solver_dense .or. refined
     sparse = problem%iparam(ip_solver) == solver_sparse
     loads = load_block(n)
     masses = mass_block(n, n_mesh)
@@ -385,6 +390,20 @@ contains
         end if
       else
         x_transposed = problem%dense_operator
+      end if
+    end if
+    if (refined) then  ! its residual operator and s Khat^-1 at this run's k_factored
+      refine_operator = problem%refined_operator
+      refine_inverse = problem%refined_inverse
+      allocate (refine_work(n))
+      if (any(k_factored /= problem%mean_stiffness)) then
+        call refined_stiffness(n, kd, n_mesh, problem%khat_band, problem%mesh, &
+                               k_factored - problem%mean_stiffness, scale_k, refine_operator, &
+                               refine_inverse, info)
+        if (info /= 0) then
+          ierr = nm_err_definite
+          return
+        end if
       end if
     end if
     if (sparse) then  ! the problem's factor at this run's k_factored
@@ -497,6 +516,9 @@ contains
             call dense_multiply_transposed(n_mesh + 2, n, x_transposed, columns, loads, &
                                            fused(loads + 1:), 1.0_dp, a_new)
           end if
+          if (refined) call refine_solution(n, n_mesh, refine_operator, refine_inverse, fused, &
+                                            problem%members, problem%mesh, alpha_m, a, a_new, &
+                                            refine_work)
         else
           rhs = r0
           call add_member(problem%members, 1, (1.0_dp - alpha_f) * drive, rhs)
@@ -787,6 +809,15 @@ contains
           return
         end if
         call state_product()
+        if (refined) then
+          call refined_stiffness(n, kd, n_mesh, problem%khat_band, problem%mesh, &
+                                 k_factored - problem%mean_stiffness, scale_k, refine_operator, &
+                                 refine_inverse, info)
+          if (info /= 0) then
+            ierr = nm_err_definite
+            bad = int(max(info, 0), ik)
+          end if
+        end if
         return
       end if
       if (sparse) then  ! CHOLMOD refactors the problem's factor numerically

@@ -20,8 +20,9 @@
 !>
 !> A problem on the dense path (iparam(ip_solver) = solver_dense, module newmark_dense)
 !> also keeps its dense operator at mean mesh stiffness and the meshes' deflections of
-!> its columns, formed once here.  A problem on the sparse path (solver_sparse, module
-!> newmark_sparse) holds M, C and K0 on one sparse pattern instead of the bands (kd = 0,
+!> its columns, formed once here; on the refined dense path (solver_refined) also the
+!> residual operator and s Khat^-1 at mean mesh stiffness.  A problem on the sparse path
+!> (solver_sparse, module newmark_sparse) holds M, C and K0 on one sparse pattern instead of the bands (kd = 0,
 !> its band arrays unused) and the CHOLMOD factors of Khat and M, made here and released
 !> with the problem.
 module newmark_problem
@@ -32,10 +33,10 @@ module newmark_problem
                              n_rparam, n_iparam, rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, &
                              rp_tolerance, rp_deflection, ip_mode, ip_varying, ip_separation, &
                              ip_restart, ip_solver, mode_linear, mode_refactor, solver_banded, &
-                             solver_dense, solver_sparse, nm_ok, nm_err_argument, nm_err_definite, &
-                             nm_err_mass, nm_err_handle, nm_err_full, nm_err_unavailable, &
-                             band_multiply
-  use newmark_dense, only: dense_columns, mean_operator
+                             solver_dense, solver_sparse, solver_refined, nm_ok, nm_err_argument, &
+                             nm_err_definite, nm_err_mass, nm_err_handle, nm_err_full, &
+                             nm_err_unavailable, band_multiply
+  use newmark_dense, only: dense_columns, mean_operator, refined_operators
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
                             symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, &
                             so_err_mass, so_err_unavailable
@@ -74,6 +75,8 @@ module newmark_problem
     type(torque_laws) :: laws                            !< drive and load torque laws
     real(dp), allocatable :: dense_operator(:, :)        !< (3n + n_mesh + 2, n) dense path: X0^T [SI]
     real(dp), allocatable :: dense_mesh_products(:, :)   !< (n_mesh, 3n + n_mesh + 2) dense path: B X0 [SI]
+    real(dp), allocatable :: refined_operator(:, :)      !< (4n, n) refined path: [-C, -K0, -Khat / s, -M]^T [SI]
+    real(dp), allocatable :: refined_inverse(:, :)       !< (n, n) refined path: s Khat^-1, transposed [1/kg]
     type(sparse_operators) :: sparse                     !< sparse path: M, C, K0 and the factors
   end type transient_problem
 
@@ -141,7 +144,7 @@ contains
     allocate (kept%khat_band(kept%kd + 1, kept%n))
     call effective_band(kept%n, kept%kd, kept%mass_band, kept%damping_band, kept%stiffness_band, &
                         kept%rparam, kept%khat_band)
-    if (kept%iparam(ip_solver) == solver_dense) then
+    if (kept%iparam(ip_solver) == solver_dense .or. kept%iparam(ip_solver) == solver_refined) then
       allocate (kept%dense_operator(dense_columns(kept%n, kept%n_mesh), kept%n))
       allocate (kept%dense_mesh_products(kept%n_mesh, dense_columns(kept%n, kept%n_mesh)))
       call mean_operator(kept%n, kept%kd, kept%n_mesh, kept%mass_band, kept%damping_band, &
@@ -150,6 +153,19 @@ contains
                                    * kept%rparam(rp_dt) * kept%rparam(rp_dt)), &
                          kept%dense_operator, kept%dense_mesh_products, info)
       if (info /= 0) then  ! Khat is not positive definite
+        ierr = merge(nm_err_definite, nm_err_argument, info > 0)
+        bad = max(info, 0_ik)
+        return
+      end if
+    end if
+    if (kept%iparam(ip_solver) == solver_refined) then
+      allocate (kept%refined_operator(4 * kept%n, kept%n), kept%refined_inverse(kept%n, kept%n))
+      call refined_operators(kept%n, kept%kd, kept%n_mesh, kept%mass_band, kept%damping_band, &
+                             kept%stiffness_band, kept%khat_band, kept%mesh, &
+                             1.0_dp / ((1.0_dp - kept%rparam(rp_alpha_f)) * kept%rparam(rp_beta) &
+                                       * kept%rparam(rp_dt) * kept%rparam(rp_dt)), &
+                             kept%refined_operator, kept%refined_inverse, info)
+      if (info /= 0) then
         ierr = merge(nm_err_definite, nm_err_argument, info > 0)
         bad = max(info, 0_ik)
         return
@@ -248,7 +264,7 @@ contains
         return
       end if
       if (iparam(ip_solver) /= solver_banded .and. iparam(ip_solver) /= solver_dense .and. &
-          iparam(ip_solver) /= solver_sparse) then
+          iparam(ip_solver) /= solver_sparse .and. iparam(ip_solver) /= solver_refined) then
         bad = 100 + ip_solver
         return
       end if

@@ -19,7 +19,7 @@ module newmark_support
   public :: rp_dt, rp_beta, rp_gamma, rp_alpha_m, rp_alpha_f, rp_tolerance, rp_refactor, &
             rp_deflection, rp_speed, rp_acceleration
   public :: ip_mode, ip_iterations, ip_varying, ip_separation, ip_refactors, ip_restart, ip_solver
-  public :: solver_banded, solver_dense, solver_sparse
+  public :: solver_banded, solver_dense, solver_sparse, solver_refined
   public :: n_rparam, n_iparam, n_rstate, n_istate
   public :: is_step, is_load_on, is_iterations, is_refactors, is_max_iterations, is_window, &
             is_separated, is_contact, is_restarts, is_coast
@@ -35,6 +35,7 @@ module newmark_support
   integer(ik), parameter :: solver_banded = 0   !< banded Cholesky factor, dpbtrs per solve
   integer(ik), parameter :: solver_dense = 1    !< dense Khat^-1 products, dgemv (module newmark_dense)
   integer(ik), parameter :: solver_sparse = 2   !< CHOLMOD factor of Khat (module newmark_sparse)
+  integer(ik), parameter :: solver_refined = 3  !< dense path with one refinement step (module newmark_dense)
 
   ! torque laws
   integer(ik), parameter :: law_none = 0         !< no torque
@@ -75,7 +76,7 @@ module newmark_support
   integer, parameter :: ip_mode = 1, ip_iterations = 2, ip_varying = 3, ip_separation = 4, &
                         ip_refactors = 5, &
                         ip_restart = 6, & ! restart a at mesh-stiffness jumps (0/1)
-                        ip_solver = 7     ! solver_banded, solver_dense or solver_sparse
+                        ip_solver = 7     ! solver_banded, solver_dense, solver_sparse or solver_refined
   ! istate layout
   integer, parameter :: is_step = 1, is_load_on = 2, is_iterations = 3, is_refactors = 4, &
                         is_max_iterations = 5, is_window = 6, is_separated = 7, &

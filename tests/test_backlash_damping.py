@@ -259,6 +259,7 @@ def late_damper_work(step, contact, damper):
 SOLVERS = [
     "banded_cholesky",
     "dense_inverse",
+    "dense_refined",
     pytest.param(
         "sparse_cholesky",
         marks=pytest.mark.skipif(

@@ -1,10 +1,11 @@
-"""The kernel's two linear solvers of the Newmark step (fortran/newmark_dense.f90).
+"""The kernel's dense linear solvers of the Newmark step (fortran/newmark_dense.f90).
 
 The dense path multiplies by s Khat^-1 [-C, -K0, w_in, w_out, B^T, -M], formed once per
-problem and updated by the Woodbury identity on refactors; the banded path multiplies
-by the band matrices and solves with the banded Cholesky factor.  Both compute the same
-step in exact arithmetic, so their runs may differ by round-off only: the bound is
-conftest.roundoff_tolerance with the mesh deflection's rigid-to-elastic ratio, never
+problem and updated by the Woodbury identity on refactors; the refined dense path
+follows the product with one step of iterative refinement against Khat; the banded path
+multiplies by the band matrices and solves with the banded Cholesky factor.  All compute
+the same step in exact arithmetic, so their runs may differ by round-off only: the bound
+is conftest.roundoff_tolerance with the mesh deflection's rigid-to-elastic ratio, never
 bit-identity.
 """
 
@@ -30,7 +31,7 @@ from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE, choose_linear_solver
 
 GEARBOX = Path(__file__).resolve().parent.parent / "cases" / "yang2016_gearbox"
-PATHS = ("banded_cholesky", "dense_inverse")
+PATHS = ("banded_cholesky", "dense_inverse", "dense_refined")
 
 
 def _both_paths(monkeypatch, case, scene) -> dict:
@@ -39,8 +40,9 @@ def _both_paths(monkeypatch, case, scene) -> dict:
 
 
 def _assert_channels_agree(runs: dict, tolerance: float, round_off_only: dict) -> None:
-    """Every channel of the dense run within tolerance of the banded run's."""
-    assert_channels_agree(runs[PATHS[0]], runs[PATHS[1]], tolerance, round_off_only)
+    """Every channel of each dense run within tolerance of the banded run's."""
+    for dense in PATHS[1:]:
+        assert_channels_agree(runs[PATHS[0]], runs[dense], tolerance, round_off_only)
 
 
 def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch):
@@ -56,9 +58,10 @@ def test_dense_and_banded_study_runup_agree_to_round_off(study_case, monkeypatch
     _assert_channels_agree(
         runs, tolerance, {"acceleration:planetary.ring.y": "acceleration:planetary.sun.theta_z"}
     )
-    banded, dense = (runs[path] for path in PATHS)
-    assert dense.t_s.item() == pytest.approx(banded.t_s.item(), rel=tolerance)
-    assert dense.attrs["solver_iterations"] == banded.attrs["solver_iterations"]
+    banded = runs[PATHS[0]]
+    for dense in (runs[path] for path in PATHS[1:]):
+        assert dense.t_s.item() == pytest.approx(banded.t_s.item(), rel=tolerance)
+        assert dense.attrs["solver_iterations"] == banded.attrs["solver_iterations"]
 
 
 def test_dense_and_banded_gearbox_runup_agree_to_round_off(monkeypatch):
@@ -116,24 +119,39 @@ def test_dense_and_banded_agree_in_the_iterated_modes(study_case, monkeypatch, c
 
 def test_automatic_choice_is_a_backward_stable_path_and_recorded(study_case, monkeypatch):
     """Without a forced path the study run-up (18 DOFs, band half-width 13 of 17) runs on
-    a factorization, never the dense inverse (faster, but it drifts over long runs,
-    tests/test_long_runs.py): on CHOLMOD's sparse factor when the build has it (about
-    140 factor and 110 pattern entries against 252 band entries), else banded.  The run's
-    attributes say which path ran and why: both counts the choice compared."""
-    from pygear.kernel.sparse_cholesky import sparse_cholesky_available
-
+    the refined dense path (the dense inverse with one step of iterative refinement),
+    never on the bare inverse (faster, but it drifts over long runs,
+    tests/test_dense_refinement.py).  The run's attributes say which path ran and why."""
     monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
     run = run_transient(study_case, short_scene(study_case, "runup", 0.005))
-    expected = "sparse_cholesky" if sparse_cholesky_available() else "banded_cholesky"
-    assert run.attrs["linear_solver"] == expected
+    assert run.attrs["linear_solver"] == "dense_refined"
     reason = run.attrs["linear_solver_reason"]
     assert reason.startswith("automatic") and "18 DOFs" in reason
     # the half-width itself (13 of 17 here) is counted from the assembled matrices'
     # non-zeros, and a product that is exactly 0 on one BLAS core is 1e-20 on another
     # (14 under Prescott): the reason must name it, not one core's count
-    assert "band half-width" in reason
-    if expected == "sparse_cholesky":  # the other side of the comparison, and its outcome
-        assert "CHOLMOD factor" in reason and "reads" in reason
+    assert "band half-width" in reason and "iterative refinement" in reason
+
+
+def test_automatic_choice_leaves_larger_models_to_the_factors(monkeypatch):
+    """The 50-DOF gearbox is beyond the refined dense path's range: the automatic choice
+    compares CHOLMOD's sparse factor with the band (both counts in the reason) when the
+    build has CHOLMOD, else takes the band.  Below the range, too, a factor's solve costs
+    less than three dense products (a 4-DOF chain)."""
+    from pygear.kernel.sparse_cholesky import sparse_cholesky_available
+
+    monkeypatch.delenv(LINEAR_SOLVER_VARIABLE, raising=False)
+    gearbox = load_case(GEARBOX)
+    run = run_transient(gearbox, short_scene(gearbox, "runup_tv", 0.001))
+    assert run.attrs["dof_count"] == 50
+    assert run.attrs["linear_solver"] in ("sparse_cholesky", "banded_cholesky")
+    if sparse_cholesky_available():
+        assert "CHOLMOD factor" in run.attrs["linear_solver_reason"]
+    n = 4
+    stiffness = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    small = BandedNewmark(np.eye(n), np.zeros((n, n)), stiffness, 1e-3)
+    assert small.linear_solver != "dense_refined"
+    assert "4 DOFs" in small.linear_solver_reason
 
 
 def test_automatic_choice_is_banded_for_a_long_narrow_band(monkeypatch):
@@ -162,8 +180,9 @@ def test_unknown_forced_solver_is_refused_naming_the_variable(monkeypatch):
         choose_linear_solver(18, 13)
 
 
-def test_dense_path_matches_the_closed_form_oscillator(monkeypatch):
-    """One mass on a spring (omega^2 = k/m), started at x0 on the dense path: the average-
+@pytest.mark.parametrize("path", ["dense_inverse", "dense_refined"])
+def test_dense_path_matches_the_closed_form_oscillator(monkeypatch, path):
+    """One mass on a spring (omega^2 = k/m), started at x0 on a dense path: the average-
     acceleration rule advances a phase of 2 atan(omega dt / 2) per step with unit
     amplitude (Newmark's discrete cosine), so x_n = x0 cos(n phi) to the recurrence's
     round-off (about n eps x0 = 1e-15 m; the bound, 1e-12 m, is a thousand times that)."""
@@ -174,9 +193,9 @@ def test_dense_path_matches_the_closed_form_oscillator(monkeypatch):
         np.zeros((1, 1)),
         np.array([[stiffness]]),
         time_step,
-        linear_solver="dense_inverse",
+        linear_solver=path,
     )
-    assert solver.linear_solver == "dense_inverse"
+    assert solver.linear_solver == path
     probe = KernelProbe("x", "displacement", weights=np.ones(1))
     result = solver.run(steps, [probe], q0=np.array([x0]))
     phase = 2.0 * math.atan(math.sqrt(stiffness / mass) * time_step / 2.0)

@@ -290,9 +290,11 @@ class BandedNewmark:
     labels : sequence of str, optional
         DOF names for messages.
     linear_solver : str
-        ``auto`` (by the entries a step reads, :mod:`~pygear.kernel.newmark_storage`),
-        ``dense_inverse``, ``banded_cholesky`` or ``sparse_cholesky`` (CHOLMOD): how the
-        kernel solves Khat a = rhs; the environment variable ``PYGEAR_LINEAR_SOLVER``
+        ``auto`` (by the model's size and the entries a step reads,
+        :mod:`~pygear.kernel.newmark_storage`), ``dense_refined`` (a dense inverse with
+        one step of iterative refinement), ``banded_cholesky``, ``sparse_cholesky``
+        (CHOLMOD) or ``dense_inverse`` (not backward stable): how the kernel solves
+        Khat a = rhs; the environment variable ``PYGEAR_LINEAR_SOLVER``
         overrides it.  ``linear_solver`` and ``linear_solver_reason`` hold the choice.
         M, C and K0 may be SciPy sparse matrices (flexible drivetrains).
     """

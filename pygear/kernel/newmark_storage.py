@@ -1,25 +1,26 @@
 """How the Newmark kernel holds M, C and K0: bands in RCM order, or one sparse pattern.
 
-Either storage carries any model.  On the banded paths the DOFs are renumbered by
-reverse Cuthill-McKee (on the pattern of M + C + K0 and the meshes' couplings) and the
-matrices go to the kernel as LAPACK band matrices, solved by the banded Cholesky factor
-or, on request, by a dense inverse (:func:`~pygear.kernel.newmark_support.
-choose_linear_solver`).  On the sparse path the three matrices share one lower-triangle
-pattern in compressed sparse columns, the kernel factors Khat and M with CHOLMOD, which
-orders the DOFs itself (approximate minimum degree or nested dissection), and the DOF
-order stays the caller's (``fortran/newmark_sparse.f90``).
+Either storage carries any model. On the banded paths the DOFs are renumbered by reverse
+Cuthill-McKee (on the pattern of M + C + K0 and the meshes' couplings) and the matrices
+go to the kernel as LAPACK band matrices, solved by the banded Cholesky factor or by a
+dense inverse with one step of iterative refinement, the automatic choice from 10 to 40
+DOFs (or, on request, by the dense inverse alone; :func:`~pygear.kernel.
+newmark_support.choose_linear_solver`). On the sparse path the three matrices share one
+lower-triangle pattern in compressed sparse columns, the kernel factors Khat and M with
+CHOLMOD, which orders the DOFs itself (approximate minimum degree or nested dissection),
+and the DOF order stays the caller's (``fortran/newmark_sparse.f90``).
 
-The automatic choice predicts what a step reads: the banded path two triangular solves
-over the band, n (kd + 1) entries, and the products with C and K0 over the same band;
-the sparse path the solves over CHOLMOD's factor, nnz(L) entries (from CHOLMOD's own
-analysis of the pattern), and the products over the pattern, nnz(P).  The sparse path
-runs when :data:`SPARSE_OVERHEAD` (nnz(L) + nnz(P)) <= 2 n (kd + 1): its indexed
-loads cost about a quarter more per entry than the band's (a spring chain, for which
-both read the same count, runs 3 to 16 % slower sparse; ``benchmarks/bench_sparse_path.py``).
-A build without CHOLMOD keeps the banded path.  In equivalent-load mode ``refactor`` the
-sparse path refactors numerically on its pattern, which holds the meshes' couplings.
-Dense input is turned into the pattern with NumPy alone, so gear-stage models do not
-load SciPy's sparse package.
+Outside that range the automatic choice predicts what a step reads: the banded path two
+triangular solves over the band, n (kd + 1) entries, and the products with C and K0 over
+the same band; the sparse path the solves over CHOLMOD's factor, nnz(L) entries (from
+CHOLMOD's own analysis of the pattern), and the products over the pattern, nnz(P). The
+sparse path runs when :data:`SPARSE_OVERHEAD` (nnz(L) + nnz(P)) <= 2 n (kd + 1): its
+indexed loads cost about a quarter more per entry than the band's (a spring chain, for
+which both read the same count, runs 3 to 16 % slower sparse;
+``benchmarks/bench_sparse_path.py``). A build without CHOLMOD keeps the banded path. In
+equivalent-load mode ``refactor`` the sparse path refactors numerically on its pattern,
+which holds the meshes' couplings. Dense input is turned into the pattern with NumPy
+alone, so gear-stage models do not load SciPy's sparse package.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from .band_ordering import band_half_width, reverse_cuthill_mckee
 from .newmark_support import (
     LINEAR_SOLVER_VARIABLE,
     choose_linear_solver,
+    dense_refined_fits,
     requested_linear_solver,
 )
 
@@ -58,7 +60,7 @@ class KernelStorage:
     Attributes
     ----------
     linear_solver : str
-        ``banded_cholesky``, ``dense_inverse`` or ``sparse_cholesky``.
+        ``dense_refined``, ``banded_cholesky``, ``sparse_cholesky`` or ``dense_inverse``.
     reason : str
         Why, in words (recorded in the output attributes).
     order : ndarray
@@ -101,7 +103,8 @@ def kernel_storage(
     deflection : ndarray, shape (n_mesh, n), optional
         The meshes' deflection rows: their couplings join the banded pattern.
     requested : str
-        ``auto``, ``banded_cholesky``, ``dense_inverse`` or ``sparse_cholesky``; the
+        ``auto``, ``dense_refined``, ``banded_cholesky``, ``sparse_cholesky`` or
+        ``dense_inverse``; the
         environment variable :data:`~pygear.kernel.newmark_support.LINEAR_SOLVER_VARIABLE`
         overrides it.
     """
@@ -118,6 +121,9 @@ def kernel_storage(
             )
         reason = f"forced by {source} ({n} DOFs, {lower[1].size} stored entries)"
         return _sparse_storage(mass, damping, stiffness, lower, reason)
+    if choice == "auto" and dense_refined_fits(n):  # the refined dense path (band storage)
+        order, kd = _band_order(n, lower, deflection)
+        return _band_storage((mass, damping, stiffness), order, kd, requested)
     if choice == "auto":
         order, kd = _band_order(n, lower, deflection)
         factor_entries = _factor_entries(n, *lower)

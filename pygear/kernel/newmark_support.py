@@ -36,6 +36,8 @@ __all__ = [
     "checkpoint_key",
     "limited_blas",
     "choose_linear_solver",
+    "DENSE_REFINED_DOFS",
+    "dense_refined_fits",
     "deferred_interrupt",
     "growth_diagnostic",
     "kernel_error",
@@ -47,7 +49,12 @@ __all__ = [
 EQUIVALENT_LOAD_CODES = {"linear": 0, "predictor": 1, "iterate": 2, "refactor": 3}
 """Kernel codes of the equivalent-load modes (``linear``: no mesh terms at all)."""
 
-LINEAR_SOLVER_CODES = {"banded_cholesky": 0, "dense_inverse": 1, "sparse_cholesky": 2}
+LINEAR_SOLVER_CODES = {
+    "banded_cholesky": 0,
+    "dense_inverse": 1,
+    "sparse_cholesky": 2,
+    "dense_refined": 3,
+}
 """Kernel codes of the linear solvers of Khat a = rhs (``fortran/newmark_dense.f90``)."""
 
 LAW_CODES = {"none": 0, "constant": 1, "ramp": 2, "table": 3, "speed_power": 4}
@@ -100,48 +107,61 @@ ISTATE_LAYOUT = (
 
 
 LINEAR_SOLVER_VARIABLE = "PYGEAR_LINEAR_SOLVER"
-"""Environment variable that forces the kernel's linear solver (``banded_cholesky``,
-``dense_inverse`` or ``sparse_cholesky``) over the automatic choice, e.g. to compare the
-paths."""
+"""Environment variable that forces the kernel's linear solver (``dense_refined``,
+``banded_cholesky``, ``sparse_cholesky`` or ``dense_inverse``) over the automatic choice,
+e.g. to compare the paths."""
 
-DENSE_DOFS_NARROW_BAND = 120
-"""Largest model the automatic choice puts on the dense path when its band is narrow
-(half-width 0) [DOFs]; see :func:`choose_linear_solver`."""
+DENSE_REFINED_DOFS = (10, 40)
+"""Models the automatic choice puts on the refined dense path: from the first to the
+second DOF count, inclusive [DOFs]; see :func:`choose_linear_solver`."""
 
-DENSE_DOFS_PER_DIAGONAL = 4
-"""DOFs the dense path's limit grows by per band diagonal [DOFs]."""
+
+def dense_refined_fits(n: int) -> bool:
+    """Whether the automatic choice takes the refined dense path for ``n`` DOFs."""
+    return DENSE_REFINED_DOFS[0] <= n <= DENSE_REFINED_DOFS[1]
 
 
 def choose_linear_solver(n: int, bandwidth: int, requested: str = "auto") -> tuple[str, str]:
-    """The kernel's linear solver for Khat a = rhs and the reason, in words.
+    """The kernel's linear solver for Khat a = rhs on band storage and the reason, in words.
 
-    ``dense_inverse`` keeps s Khat^-1 times the step's matrices and load vectors and
-    spends one or two dense matrix-vector products per step, about 2 n^2 multiplications
-    (``fortran/newmark_dense.f90``); ``banded_cholesky`` multiplies by the band matrices
-    and solves with the banded Cholesky factor, about n (kd + 1) multiplications per
-    product or triangular solve but with more fixed cost per DOF.  On the 2-core AVX2
-    machine of ``benchmarks/bench_newmark.py`` the dense path was the faster below about
-    ``120 + 4 kd`` DOFs (chains of 50 to 300 DOFs, half-widths 2 to 80), but its error
-    grows over long runs (an explicit inverse is not backward stable), so ``auto`` always
-    picks the banded path and says whether the dense one would have been faster.
-    ``requested`` (or the environment variable :data:`LINEAR_SOLVER_VARIABLE`, which
-    wins) forces either path.
+    ``dense_refined`` keeps s Khat^-1 times the step's matrices and load vectors, spends
+    one dense matrix-vector product per solve, and follows it with one step of iterative
+    refinement against Khat (the residual from C, K0, the loads and Khat, corrected with
+    s Khat^-1): four dense products per solve, about n (6 n + M + 2) multiplications for
+    M meshes, and a step as backward stable as a factorization's
+    (``fortran/newmark_dense.f90``).
+    ``dense_inverse`` is the same product without the refinement, the fastest step but
+    not backward stable: over 1e6 steps of the study case at 2000 rpm its speeds drift
+    to 3.6e-8 of their value, against 7e-11 refined and 4e-11 on the band factor
+    (``tests/test_dense_refinement.py``); it runs only on request.  ``banded_cholesky``
+    multiplies by the band matrices and solves with the banded Cholesky factor, about
+    n (kd + 1) multiplications per product or triangular solve.  On the 2-core AVX2
+    machine of ``benchmarks/bench_newmark.py`` (docs/performance.md) the refined dense
+    path was the fastest stable one on the study case (0.85 times CHOLMOD's sparse step)
+    and on spring lattices of 12 to 40 DOFs with half-widths 2 to 20 (0.66 to 0.91
+    times), within 10 % of CHOLMOD either way on narrow bands at 24 to 30 DOFs (the NREL
+    drivetrain, a lattice of half-width 2), and slower below 10 DOFs (its four BLAS
+    calls cost more than a small factor's solve: 1.2 times at 4 DOFs) and on the 50- and
+    54-DOF gearboxes (1.13 and 1.2 times), so ``auto`` takes it within
+    :data:`DENSE_REFINED_DOFS` and leaves other models to the band and sparse factors
+    (:func:`~pygear.kernel.newmark_storage.kernel_storage`).  ``requested`` (or the
+    environment variable :data:`LINEAR_SOLVER_VARIABLE`, which wins) forces a path.
     """
     choice, forced = requested_linear_solver(requested)
     shape = f"{n} DOFs, band half-width {bandwidth}, band fill {_band_fill(n, bandwidth):.0%}"
     if choice != "auto":
         source = f"{LINEAR_SOLVER_VARIABLE}={forced}" if forced else f"linear_solver={choice!r}"
         return choice, f"forced by {source} ({shape})"
-    limit = DENSE_DOFS_NARROW_BAND + DENSE_DOFS_PER_DIAGONAL * bandwidth
-    if n <= limit:
-        # faster here, but an explicit inverse is not backward stable: over 1e6 steps of
-        # the study case at 2000 rpm its state drifts to 6e-9 of its size, beyond the
-        # 1e-9 the banded solve keeps (tests/test_long_runs.py); dense only on request
-        return "banded_cholesky", (
-            f"automatic: {shape}; the dense inverse would be faster up to {limit} DOFs but "
-            "loses accuracy over long runs, so it runs only on request"
+    low, high = DENSE_REFINED_DOFS
+    if dense_refined_fits(n):
+        return "dense_refined", (
+            f"automatic: {shape}; from {low} to {high} DOFs the dense inverse with one step "
+            "of iterative refinement is the fastest backward stable step"
         )
-    return "banded_cholesky", f"automatic: {shape}; band solves cost less above {limit} DOFs"
+    return "banded_cholesky", (
+        f"automatic: {shape}; outside {low} to {high} DOFs the band factor costs less "
+        "than the refined dense inverse"
+    )
 
 
 def requested_linear_solver(requested: str) -> tuple[str, str]:
