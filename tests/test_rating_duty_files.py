@@ -272,3 +272,21 @@ def test_tangential_load_of_a_helical_mesh_by_hand(nrel):
     assert tangential_load(load, 1000.0) == pytest.approx(
         1000.0 * math.cos(beta_b) * math.cos(alpha_t), rel=1e-12)
     assert abs(geo.base_helix_angle(gear)) == pytest.approx(beta_b, rel=1e-12)
+
+
+def test_a_record_of_other_meshes_is_refused_before_the_model_runs(nrel, tmp_path, capsys,
+                                                                   monkeypatch):
+    import pygear.analysis.response as response
+
+    case, rating = nrel
+    ds, _, _ = _record(rating, seconds=0.05)
+    path = tmp_path / "other.nc"
+    ds.assign_coords(mesh=["stage9.sun-planet1"]).to_netcdf(path)
+
+    def never(*_, **__):
+        raise AssertionError("the dynamic model ran before the record was checked")
+
+    monkeypatch.setattr(response, "dynamic_factors_at", never)
+    assert main(["rate", "nrel5mw_gearbox", "--duty-cycle", str(path)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and "'stage9.sun-planet1'" in error

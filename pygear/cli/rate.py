@@ -77,6 +77,10 @@ def _rate(args: argparse.Namespace) -> int:
         duty, record, notes = _duty_file(args.duty_cycle, rating.rated_speed_rpm)
         if duty is not None:
             rating = dataclasses.replace(rating, duty_cycle=duty)
+    if record:  # the record's meshes must be the case's, before the model's K_v
+        from ..analysis.rating.gearbox_rating import check_record_meshes
+
+        check_record_meshes(case, rating, record["matrices"])
     if args.face_load is not None:
         rating = dataclasses.replace(rating, face_load_from_model=args.face_load == "model")
     factors: dict = {}

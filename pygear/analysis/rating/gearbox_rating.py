@@ -370,19 +370,31 @@ def _shaft_mismatch(case, rating: Rating, loads: list[tuple]) -> dict[str, float
     return out
 
 
+def check_record_meshes(case, rating: Rating | None, matrices,
+                        names: Sequence[str] | None = None) -> dict:
+    """The record's matrices by rated mesh; a CaseError names labels of meshes the case
+    does not have."""
+    from .run_damage import matrices_by_mesh
+
+    if names is None:
+        names = [entry[0] for entry in pair_loads(case, rating, rating.rated_torque,
+                                                  rating.rated_speed_rpm, 1.0)]
+    grouped, unknown = matrices_by_mesh(matrices, names)
+    if unknown:
+        raise CaseError(f"the duty-cycle record's meshes {unknown} are not meshes of the "
+                        f"case's rating ({list(names)})")
+    return grouped
+
+
 def _recorded(case, meshes: list[MeshEntry], matrices, record_s, life: float,
               result: GearboxRating, speed_scale: float) -> set[str]:
     """Damage of the meshes the recorded ``matrices`` cover (added to ``result``); their
     names."""
     if not matrices:
         return set()
-    from .run_damage import matrices_by_mesh, run_planets, spectrum_damage
+    from .run_damage import run_planets, spectrum_damage
 
-    names = [m.name for m in meshes]
-    grouped, unknown = matrices_by_mesh(matrices, names)
-    if unknown:
-        raise CaseError(f"the duty-cycle record's meshes {unknown} are not meshes of the "
-                        f"case's rating ({names})")
+    grouped = check_record_meshes(case, None, matrices, [m.name for m in meshes])
     planets = {s.name: getattr(s, "planets", 1) for s in _gear_stages(case)}
     for entry in meshes:
         if entry.name not in grouped:
