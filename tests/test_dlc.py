@@ -287,3 +287,34 @@ def test_openfast_load_case_drives_the_scene_with_the_file_torque():
     )  # fmt: skip
     with pytest.raises(CaseError, match="holds 0.5 s, less than the duration 5 s"):
         load_case_series(longer, longer.load_cases()[0], data)
+
+
+@pytest.mark.slow
+def test_load_case_runs_on_the_whole_drivetrain(tmp_path):
+    # the flexible NREL 5 MW drivetrain (shafts as beam elements) under the same kind of
+    # table: the load case's file holds its series as the drive and its reductions
+    from pygear.runs.dlc import load_case_series, run_load_case
+
+    directory = tmp_path / "drivetrain_dlc"
+    directory.mkdir()
+    (directory / "case.py").write_text(
+        "import dataclasses\n"
+        "from pygear.model.case_files import load_case_module\n"
+        "from pygear.model.dlc_settings import DesignLoadCases\n"
+        "from pygear.model.reduction_settings import Reductions\n"
+        "_, base = load_case_module('nrel5mw_drivetrain')\n"
+        "case = dataclasses.replace(base.case, name='drivetrain_dlc')\n"
+        "design_load_cases = DesignLoadCases(scene='runup', wind_speeds=(14.0,), seeds=(1,),\n"
+        "    duration=0.1, input_rate=200.0, reductions=Reductions(rainflow=('mesh_force',),\n"
+        "    load_duration=('drive_torque', 'load_torque')))\n"
+    )
+    row = run_load_case(str(directory), "dlc_14ms_seed1", str(tmp_path / "out"))
+    assert row["status"] == "ok", row["error"]
+    _, table, _ = load_design_load_cases(directory)
+    series = load_case_series(table, table.load_cases()[0])
+    with xr.open_dataset(row["file"]) as run:
+        assert int(run.attrs["complete"]) == 1 and int(run.attrs["whole_drivetrain"]) == 1
+        expected = np.interp(run.time.values, series.time.values, series.rotor_torque.values)
+        np.testing.assert_allclose(run.drive_torque.values, expected, rtol=1e-9)
+        assert float(run.rainflow_mesh_force.sum()) > 0
+        assert float(run.load_duration_time.sum()) > 0

@@ -192,6 +192,7 @@ def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
         # that of the bearing_force probes (the bearing springs)
         case = dataclasses.replace(case, rolling_bearings=())
         scene = load_case_scene(case, table, load, load_case_series(table, load, directory))
+        out.mkdir(parents=True, exist_ok=True)
         check_scenes(case, [scene], out=out)
         _journal(out, f"started {name} {os.getpid()}")
         scene_case, model = scene_model_for(case, scene)
