@@ -126,3 +126,44 @@ def test_the_command_takes_the_model_mismatch(capsys):
     # the drivetrain's case types K_Hbeta of the helical pair: the given value stays
     assert model["K_Hbeta"] == plain["K_Hbeta"] and "K_Hbeta" in model["given"]
     assert "f_sh" not in model
+
+
+def test_a_crowned_pair_takes_k_hbeta_from_the_loaded_contact_analysis(nrel):
+    # crowning on the helical pair's input gear: K_Hbeta is the LTCA's face load peak
+    # over its mean at the rated F_m with the model's mismatch (either sign, the larger),
+    # and a mismatch loads the crowned face off centre: above the aligned pair's
+    from pygear.analysis.contact.ltca_case import case_loaded_contact
+    from pygear.model.micro_geometry import Misalignment, Modifications
+
+    case, rating = nrel
+    stage = case.gearbox.stage("parallel")
+    crowned = dataclasses.replace(stage, input_gear=dataclasses.replace(
+        stage.input_gear, modifications=Modifications(crowning=20e-6)))
+    gearbox = dataclasses.replace(case.gearbox, stages=tuple(
+        crowned if s.name == "parallel" else s for s in case.gearbox.stages))
+    crowned_case = dataclasses.replace(case, gearbox=gearbox)
+    mesh = _k_hbeta(rate_gearbox(crowned_case, rating))
+    factor = mesh["K_Hbeta"]
+    assert factor.source == "model" and "loaded tooth contact analysis" in factor.clause
+    # the same analysis by hand: the force along the transverse line of action at F_m
+    slope = abs(mesh_misalignments(crowned_case, rating.rated_torque)["parallel.input-output"])
+    g1 = crowned.input_gear.geometry
+    beta = math.radians(abs(g1.helix_angle_deg))
+    alpha_t = math.atan(math.tan(math.radians(g1.normal_pressure_angle_deg)) / math.cos(beta))
+    f_m = mesh["F_t"].value * mesh["K_A"].value * mesh["K_gamma"].value * mesh["K_v"].value
+    torque = f_m / math.cos(alpha_t) * crowned.input_gear.base_radius
+    b = min(g1.face_width, crowned.output_gear.geometry.face_width)
+
+    def k_hbeta(mismatch: float) -> float:
+        mods = Modifications(crowning=20e-6, misalignment=Misalignment(mismatch=mismatch))
+        tilted = dataclasses.replace(crowned, input_gear=dataclasses.replace(
+            crowned.input_gear, modifications=mods))
+        box = dataclasses.replace(case.gearbox, stages=tuple(
+            tilted if s.name == "parallel" else s for s in case.gearbox.stages))
+        ds = case_loaded_contact(dataclasses.replace(case, gearbox=box),
+                                 "parallel.input-output", torque)
+        return float(ds.k_h_beta.values[0])
+
+    hand = max(k_hbeta(slope * b), k_hbeta(-slope * b))
+    assert factor.value == pytest.approx(hand, rel=1e-9)
+    assert factor.value > k_hbeta(0.0) * 1.01

@@ -25,11 +25,13 @@ f_sh per unit line load F_m / b (um per N/mm, the form of ISO's own estimate f_s
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ...errors import CaseError
 
-__all__ = ["mesh_misalignments"]
+__all__ = ["has_micro_geometry", "ltca_face_load_factor", "mesh_misalignments"]
 
 _TILTS = {"x": ("theta_y", 1.0), "y": ("theta_x", -1.0),
           "zeta": ("theta_eta", 1.0), "eta": ("theta_zeta", -1.0)}
@@ -92,3 +94,48 @@ def mesh_misalignments(case, torque: float) -> dict[str, float]:
     if not found_tilt:
         raise CaseError(f"case {case.name!r}: its spatial model has no gear tilt DOFs")
     return out
+
+
+def _with_gear(case, stage, member: str, gear):
+    """``case`` with ``stage``'s ``member`` gear replaced (and its drivetrain's gearbox)."""
+    changed = replace(stage, **{member: gear})
+    gearbox = replace(case.gearbox, stages=tuple(
+        changed if s.name == stage.name else s for s in case.gearbox.stages))
+    if case.drivetrain is not None:
+        return replace(case, gearbox=gearbox,
+                       drivetrain=replace(case.drivetrain, gearbox=gearbox))
+    return replace(case, gearbox=gearbox)
+
+
+def has_micro_geometry(case, label: str) -> bool:
+    """Whether a gear of the mesh ``label`` carries modifications (micro-geometry)."""
+    from ..contact.ltca_case import case_mesh
+
+    return any(getattr(g, "modifications", None) is not None
+               for g in case_mesh(case, label).gears)
+
+
+def ltca_face_load_factor(case, label: str, force: float, slope: float) -> float:
+    """K_Hbeta of the mesh ``label`` from the loaded tooth contact analysis with its
+    gears' micro-geometry, at ``force`` [N] along the transverse line of action, with the
+    model's mismatch ``slope`` [m/m] added to the first gear's misalignment: the peak of
+    the face load's mean over the mesh cycle over F/b (:func:`pygear.analysis.contact.
+    ltca_case.case_loaded_contact`).  The slope's sign is taken both ways and the larger
+    K_Hbeta kept (a crowning or helix modification meets the tilt from one side)."""
+    from ...model.micro_geometry import Misalignment, Modifications
+    from ..contact.ltca_case import case_loaded_contact, case_mesh
+
+    mesh = case_mesh(case, label)
+    member = {"sun": "sun", "ring": "planet", "mesh": "input_gear"}[mesh.member]
+    gear = mesh.gears[0]
+    width = min(mesh.geometry.gear1.face_width, mesh.geometry.gear2.face_width)
+    modifications = gear.modifications or Modifications()
+    misalignment = modifications.misalignment or Misalignment()
+    worst = 0.0
+    for sign in ((1.0, -1.0) if slope else (1.0,)):
+        tilted = replace(modifications, misalignment=replace(
+            misalignment, mismatch=misalignment.mismatch + sign * abs(slope) * width))
+        changed = _with_gear(case, mesh.stage, member, replace(gear, modifications=tilted))
+        ds = case_loaded_contact(changed, label, force * mesh.torque_radius)
+        worst = max(worst, float(ds["k_h_beta"].values[0]))
+    return worst

@@ -296,8 +296,10 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                                           rating.rated_torque)
     loads = pair_loads(case, rating, rating.rated_torque, rating.rated_speed_rpm,
                        rating.application_factor, dynamic_factors, sharing)
-    mismatch = _shaft_mismatch(case, rating, loads) if rating.face_load_from_model else {}
-    loads = [(n, g, s, replace(p, shaft_mismatch=mismatch.get(n))) for n, g, s, p in loads]
+    mismatch, contact = _shaft_mismatch(case, rating, loads) if rating.face_load_from_model \
+        else ({}, {})
+    loads = [(n, g, s, _face_load(p, mismatch.get(n), contact.get(n)))
+             for n, g, s, p in loads]
     meshes = [MeshEntry(name, gears, stage, load, rate_pair(load))
               for name, gears, stage, load in loads]
     result = GearboxRating(meshes)
@@ -326,7 +328,7 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                 continue
             # ISO 6336-6: the spectrum replaces K_A, the other factors at each bin's load
             binned = pair_loads(case, rating, torque, speed, 1.0, dynamic_factors, sharing)
-            binned = [(n, g, s, replace(p, shaft_mismatch=mismatch.get(n)))
+            binned = [(n, g, s, _face_load(p, mismatch.get(n), contact.get(n)))
                       for n, g, s, p in binned]
             for name, gears, _, load in binned:
                 if name in recorded:
@@ -345,29 +347,52 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
     return result
 
 
-def _shaft_mismatch(case, rating: Rating, loads: list[tuple]) -> dict[str, float]:
+def _face_load(load: PairLoad, mismatch: float | None, contact: FactorValue | None
+               ) -> PairLoad:
+    """``load`` with the model's mismatch, and the LTCA's K_Hbeta where it has one."""
+    if contact is not None:
+        return replace(load, given={**load.given, "K_Hbeta": contact})
+    return replace(load, shaft_mismatch=mismatch)
+
+
+def _shaft_mismatch(case, rating: Rating, loads: list[tuple]
+                    ) -> tuple[dict[str, float], dict[str, FactorValue]]:
     """f_sh per unit line load [um per N/mm] of every rated mesh from the model's static
     deflection at the rated torque (:mod:`.deflection`): the largest over a stage's
-    planets; meshes with a given K_Hbeta are left out."""
-    from .deflection import mesh_misalignments
+    planets; and K_Hbeta of the LTCA with that mismatch for meshes whose gears carry
+    micro-geometry (at the rated F_m, kept for every duty-cycle bin).  Meshes with a
+    given K_Hbeta are left out."""
+    from .deflection import has_micro_geometry, ltca_face_load_factor, mesh_misalignments
     from .run_damage import mesh_for_label
 
     slopes = mesh_misalignments(case, rating.rated_torque)
     names = [entry[0] for entry in loads]
-    worst: dict[str, float] = {}
+    worst: dict[str, tuple[float, str]] = {}
     for label, slope in slopes.items():
         mesh = mesh_for_label(label, names)
-        if mesh is not None:
-            worst[mesh] = max(worst.get(mesh, 0.0), abs(slope))
-    out = {}
+        if mesh is not None and abs(slope) >= worst.get(mesh, (-1.0, ""))[0]:
+            worst[mesh] = (abs(slope), label)
+    out, contact = {}, {}
     for name, _, _, load in loads:
         if name in rating.face_load_factor or name not in worst:
             continue
+        slope, label = worst[name]
         g1, g2 = load.geometry.gear1, load.geometry.gear2
         b = min(g1.face_width, g2.face_width)  # m
         line_load = abs(load.torque1) / geo.pitch_radius(g1) / (b * 1e3)  # N/mm, nominal
-        out[name] = worst[name] * b * 1e6 / line_load
-    return out
+        out[name] = slope * b * 1e6 / line_load
+        if has_micro_geometry(case, label):
+            mesh = rate_pair(replace(load, shaft_mismatch=out[name])).mesh
+            f_m = (mesh["F_t"].value * mesh["K_A"].value * mesh["K_gamma"].value
+                   * mesh["K_v"].value)
+            force = f_m / math.cos(geo.transverse_pressure_angle(g1))  # transverse LOA
+            k_hb = ltca_face_load_factor(case, label, force, slope)
+            contact[name] = FactorValue(
+                k_hb, f"ISO 6336-1:2019 cl. 7 (K_Hbeta as the face load's peak over its "
+                f"mean): loaded tooth contact analysis of {label} with its micro-geometry "
+                f"and the model's mismatch {slope * b * 1e6:.3g} um, at the rated F_m",
+                "model")
+    return out, contact
 
 
 def check_record_meshes(case, rating: Rating | None, matrices,
