@@ -48,7 +48,9 @@ __all__ = [
     "MEMBER_CHOICES",
     "SpeedTerms",
     "TranslationPair",
+    "FrameTerms",
     "apply_speed_terms",
+    "drivetrain_frame_terms",
     "reference_label",
     "speed_terms",
 ]
@@ -161,8 +163,10 @@ def speed_terms(
     reference : str, optional
         DOF label the speed refers to; default the first planetary stage's carrier.
     members : {"all", "planets"}
-        Cooley & Parker's terms on every member of every planetary stage, or on the
-        planets only.
+        Cooley & Parker's terms on every member of every planetary stage (each stage
+        in its carrier's frame), or on the planets only: the carrier, ring and sun
+        are then read in the inertial frame (their pairs' ``frame_ratio`` is 0), as
+        the shafts of a drivetrain they sit on.
 
     Raises
     ------
@@ -206,6 +210,8 @@ def speed_terms(
             continue
         first, second, mass = _pair_axes(node, part, n_full)
         frame = frame_ratios.get(stage, 0.0)
+        if members == "planets" and node.role != "planet":
+            frame = 0.0  # a central member read in the inertial frame, as a shaft's node
         pairs.append(
             TranslationPair(
                 node.name,
@@ -218,7 +224,7 @@ def speed_terms(
                 spin,
             )
         )
-        if frame == 0.0 or (members == "planets" and node.role != "planet"):
+        if frame == 0.0:
             continue
         # Coriolis: 2 m Omega (a2 a1^T - a1 a2^T); centripetal: m on the pair's own DOFs
         gyroscopic += 2.0 * mass * frame * (np.outer(second, first) - np.outer(first, second))
@@ -308,3 +314,78 @@ def apply_speed_terms(model: Any, case: Any, carrier_speed_rpm: float) -> Any:
 
 def _symmetric(matrix: np.ndarray) -> np.ndarray:
     return 0.5 * (matrix + matrix.T)
+
+
+@dataclass(frozen=True)
+class FrameTerms:
+    """A drivetrain's gearbox-block rotating-frame terms per unit rotor speed.
+
+    Attributes
+    ----------
+    gyroscopic : scipy.sparse.csc_matrix
+        Coriolis matrix over the drivetrain's DOFs at 1 rad/s of the rotor [kg].
+    centripetal : scipy.sparse.csc_matrix
+        Centripetal softening at 1 rad/s of the rotor: K(Omega) = K - Omega^2 times it [kg].
+    carrier_ratios : dict of str to float
+        Each planetary stage's carrier speed over the rotor's.
+    terms : SpeedTerms
+        The gearbox model's terms per unit speed of the reference carrier.
+    """
+
+    gyroscopic: Any
+    centripetal: Any
+    carrier_ratios: dict[str, float]
+    terms: SpeedTerms
+
+    def at(self, rotor_speed_rad_s: float) -> tuple[Any, Any]:
+        """(Omega G, Omega^2 K_Omega) at a rotor speed [rad/s]."""
+        return rotor_speed_rad_s * self.gyroscopic, rotor_speed_rad_s**2 * self.centripetal
+
+
+def drivetrain_frame_terms(model: Any, case: Any) -> FrameTerms | None:
+    """The planets' Coriolis and centripetal terms of a drivetrain's gearbox block.
+
+    A drivetrain's carrier, ring and sun share their shafts' inertial DOFs (the
+    ``improved`` and ``consistent`` formulations), while each planet is written in its
+    carrier's frame at the planet's fixed angle: the planets carry Cooley & Parker's
+    terms (``members="planets"``) at their stage's carrier speed, and the central
+    members carry none.  The terms are scaled from the gearbox's reference carrier to
+    the rotor by the speed of a mounted member over its shaft's speed ratio.
+
+    Parameters
+    ----------
+    model : DrivetrainModel
+        The assembled drivetrain (its ``gearbox`` block and ``speed_ratios``).
+    case : Case
+        Its case.
+
+    Returns
+    -------
+    FrameTerms or None
+        None for a plain rotor or a gearbox without a planetary stage.
+    """
+    import scipy.sparse as sp
+
+    gearbox = model.gearbox
+    if gearbox is None or not any(isinstance(s, PlanetaryStage) for s in case.gearbox.stages):
+        return None
+    terms = speed_terms(gearbox, case, reference_label(case, "carrier"), "planets")
+    carrier_over_rotor = None
+    for mount in case.drivetrain.mounts:
+        member = terms.speed_ratios.get(mount.member, 0.0)
+        if abs(member) > 1e-12:
+            carrier_over_rotor = model.speed_ratios[mount.at.split(".")[0]] / member
+            break
+    if carrier_over_rotor is None:
+        raise CaseError("drivetrain.mounts: no mounted gearbox member turns with the rotor")
+    offset = model.gearbox_offset
+
+    def placed(block: np.ndarray) -> Any:
+        return sp.block_diag((sp.csc_matrix((offset, offset)), sp.csc_matrix(block)), "csc")
+
+    return FrameTerms(
+        gyroscopic=placed(carrier_over_rotor * terms.gyroscopic),
+        centripetal=placed(carrier_over_rotor**2 * terms.centripetal),
+        carrier_ratios={k: v * carrier_over_rotor for k, v in terms.frame_ratios.items()},
+        terms=terms,
+    )

@@ -64,8 +64,10 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--speed",
         type=float,
         metavar="RPM",
-        help="a rotor or drivetrain case: the modes at this rotor speed with the shafts' "
-        "and discs' gyroscopic terms (forward/backward whirl)",
+        help="the modes at this speed [rpm] (a rotor or drivetrain case: the rotor's, with "
+        "the shafts' and discs' gyroscopic terms and the planets' frame terms; a gearbox "
+        "case: the first planetary carrier's, else the input's, with Cooley & Parker's "
+        "terms), with forward/backward whirl",
     )
 
     matrices = commands.add_parser("matrices", help="save the reduced M, K, C and DOF labels")
@@ -142,12 +144,7 @@ def _modal(args: argparse.Namespace) -> int:
             return _modes_at_speed(case, args)
         return _drivetrain_modal(case, args)
     if args.speed is not None:
-        from ..errors import CaseError
-
-        raise CaseError(
-            "--speed is for rotor and drivetrain cases; a gearbox's speed-dependent modes: "
-            "pygear campbell"
-        )
+        return _gearbox_modes_at_speed(case, args)
     if args.below is not None:
         from ..errors import CaseError
 
@@ -251,6 +248,7 @@ def _modes_at_speed(case, args: argparse.Namespace) -> int:
     shafts' and discs' gyroscopic terms, their whirl and kind."""
     from ..analysis.modes.sparse_gyroscopic import rotor_modes
     from ..assembly.drivetrain import assemble_drivetrain
+    from ..assembly.speed_terms import drivetrain_frame_terms
     from ..errors import CaseError
     from ..runs.json_output import json_text
 
@@ -261,7 +259,8 @@ def _modes_at_speed(case, args: argparse.Namespace) -> int:
     if args.below is not None or args.out or args.compare_stage:
         raise CaseError("--below, --out and --compare-stage do not combine with --speed")
     model = assemble_drivetrain(case, dof_set="spatial")
-    modes = rotor_modes(model, args.speed, args.modes)
+    frame_terms = drivetrain_frame_terms(model, case)
+    modes = rotor_modes(model, args.speed, args.modes, frame_terms=frame_terms)
     if args.json:
         print(
             json_text(
@@ -274,13 +273,16 @@ def _modes_at_speed(case, args: argparse.Namespace) -> int:
                     "damping_ratios": modes.damping_ratio.values.tolist(),
                     "whirl": [str(w) for w in modes.whirl.values],
                     "kind": [str(k) for k in modes.kind.values],
+                    "gyroscopic": modes.attrs["gyroscopic"],
                 }
             )
         )
         return 0
+    planets = "" if frame_terms is None else ", planets in their carriers' frames"
     print(
         f"{case.name}: {model.size} DOFs at {args.speed:g} rpm (gyroscopic terms of the "
-        f"shafts and discs), {modes.attrs['solver']} solver, {modes.sizes['mode']} modes"
+        f"shafts and discs{planets}), {modes.attrs['solver']} solver, "
+        f"{modes.sizes['mode']} modes"
     )
     print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'damping':>8}  {'kind':<10} whirl")
     for m in range(modes.sizes["mode"]):
@@ -288,6 +290,55 @@ def _modes_at_speed(case, args: argparse.Namespace) -> int:
             f"{m + 1:>4}  {modes.frequency.values[m]:>14.4f}  "
             f"{modes.damping_ratio.values[m]:>8.4f}  {modes.kind.values[m]:<10} "
             f"{modes.whirl.values[m]}"
+        )
+    return 0
+
+
+def _gearbox_modes_at_speed(case, args: argparse.Namespace) -> int:
+    """A gearbox case at ``--speed`` of its first planetary carrier (else its input):
+    every mode with Cooley & Parker's gyroscopic and centripetal terms."""
+    from ..analysis.modes.gyroscopic import speed_dependent_modes
+    from ..assembly.matrices import assemble
+    from ..assembly.speed_terms import reference_label
+    from ..errors import CaseError
+    from ..model.components import PlanetaryStage
+    from ..runs.json_output import json_text
+
+    if not math.isfinite(args.speed):
+        raise CaseError(f"--speed must be a finite number of rpm (got {args.speed!r})")
+    if args.below is not None or args.out or args.compare_stage:
+        raise CaseError("--below, --out and --compare-stage do not combine with --speed")
+    planetary = any(isinstance(s, PlanetaryStage) for s in case.gearbox.stages)
+    reference = reference_label(case, "carrier" if planetary else "input")
+    model = assemble(case, formulation=args.formulation, dof_set=args.dof_set)
+    modes = speed_dependent_modes(model, case, args.speed, reference=reference)
+    if args.json:
+        print(
+            json_text(
+                {
+                    "case": case.name,
+                    "speed_rpm": args.speed,
+                    "reference": reference,
+                    "dofs": len(model.dof_labels),
+                    "frequencies_hz": modes.frequency.values.tolist(),
+                    "whirl": [str(w) for w in modes.whirl.values],
+                    "mode_class": [str(c) for c in modes.mode_class.values],
+                    "stability": modes.stability.values.tolist(),
+                    "speed_terms": modes.attrs["speed_terms"],
+                }
+            )
+        )
+        return 0
+    print(
+        f"{case.name}: {len(model.dof_labels)} DOFs, {model.formulation} formulation, "
+        f"{reference} at {args.speed:g} rpm ({modes.attrs['speed_terms']}); frequencies "
+        "in each planetary stage's carrier frame"
+    )
+    print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'class':<14} {'whirl':<9} stability")
+    for m in range(modes.sizes["mode"]):
+        print(
+            f"{m + 1:>4}  {modes.frequency.values[m]:>14.4f}  {modes.mode_class.values[m]:<14} "
+            f"{modes.whirl.values[m]:<9} {int(modes.stability.values[m])}"
         )
     return 0
 

@@ -52,6 +52,20 @@ __all__ = ["campbell_diagram", "check_speeds", "unstable_ranges"]
 SPEED_EFFECTS = ("speed_dependent_planet_terms", "gyroscopic_all_members")
 """Effects a Campbell diagram replaces with its own speed terms."""
 
+SPEED_TERMS_NOTES = {
+    "all": "Cooley & Parker (2012): gyroscopic and centripetal terms of every member of "
+    "every planetary stage, in its carrier's frame",
+    "planets": "Cooley & Parker (2012): gyroscopic and centripetal terms of the planets, "
+    "in their carrier's frame; carrier, ring and sun in the inertial frame",
+}
+"""What each choice of ``members`` puts in the model."""
+
+FREQUENCY_FRAMES = {
+    "all": "each planetary stage's carrier frame; inertial elsewhere",
+    "planets": "inertial (the planets' coordinates in their carrier's frame)",
+}
+"""The frame each choice of ``members`` gives its frequencies in."""
+
 MAX_SPEEDS = 100_000
 """Most speeds one diagram computes."""
 
@@ -82,6 +96,7 @@ def campbell_diagram(
     harmonics: int = 3,
     shaft_harmonics: int = 2,
     damping: bool = False,
+    members: str = "all",
 ) -> xr.Dataset:
     """Natural frequencies over a speed range, tracked, with crossings and instabilities.
 
@@ -100,6 +115,11 @@ def campbell_diagram(
         Mesh harmonics and shaft orders per body to cross with.
     damping : bool
         Include the case's damping (damping ratios; flutter thresholds move).
+    members : {"all", "planets"}
+        Cooley & Parker's terms on every member, each stage in its carrier's frame;
+        or on the planets only, with carrier, ring and sun in the inertial frame (the
+        terms a drivetrain's gearbox block carries, whose central members share their
+        shafts' DOFs).
 
     Returns
     -------
@@ -125,7 +145,7 @@ def campbell_diagram(
             carrier_speed_rpm=0.0,
         )
     model = assemble(case, settings)
-    terms = speed_terms(model, case, reference, "all")
+    terms = speed_terms(model, case, reference, members)
     rigid_count = rigid_motions(model)
 
     def solve(speed: float) -> SpeedModes:
@@ -146,9 +166,8 @@ def campbell_diagram(
             "reference": reference,
             "member": member,
             "damping_included": int(damping),
-            "speed_terms": "Cooley & Parker (2012): gyroscopic and centripetal terms of "
-            "every member of every planetary stage, in its carrier's frame",
-            "frequency_frame": "each planetary stage's carrier frame; inertial elsewhere",
+            "speed_terms": SPEED_TERMS_NOTES[members],
+            "frequency_frame": FREQUENCY_FRAMES[members],
             "stage_carrier_speed_ratios": ", ".join(
                 f"{k}: {v:.6g}" for k, v in terms.frame_ratios.items()
             ),

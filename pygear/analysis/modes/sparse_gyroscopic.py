@@ -227,23 +227,34 @@ def whirl_and_kind(
     return np.where(np.array(kinds) == "lateral", ratio, 0.0), names, kinds
 
 
-def modes_at_speed(model, speed_rpm: float, modes: int = 12, *, solver: str = "auto") -> SpeedModes:
+def modes_at_speed(
+    model, speed_rpm: float, modes: int = 12, *, solver: str = "auto", frame_terms=None
+) -> SpeedModes:
     """The ``modes`` lowest modes of a drivetrain model at a rotor speed [rpm]: its
-    damping, its table bearings at their speeds, and Omega G (every shaft and disc at
-    its own speed ratio)."""
+    damping, its table bearings at their speeds, Omega G (every shaft and disc at its
+    own speed ratio) and, with ``frame_terms``
+    (:func:`pygear.assembly.speed_terms.drivetrain_frame_terms`), the planets'
+    Coriolis and centripetal terms at their carriers' speeds."""
     if not math.isfinite(speed_rpm):
         raise CaseError(f"--speed must be a finite number of rpm (got {speed_rpm!r})")
     omega = speed_rpm * math.pi / 30.0
     stiffness, damping = model.at_speed(speed_rpm)
-    return solve(model.mass, stiffness, damping + omega * model.gyroscopic, modes, solver)
+    first_order = damping + omega * model.gyroscopic
+    if frame_terms is not None:
+        coriolis, centripetal = frame_terms.at(omega)
+        first_order = first_order + coriolis
+        stiffness = stiffness - centripetal
+    return solve(model.mass, stiffness, first_order, modes, solver)
 
 
-def rotor_modes(model, speed_rpm: float, modes: int = 12, *, solver: str = "auto"):
+def rotor_modes(
+    model, speed_rpm: float, modes: int = 12, *, solver: str = "auto", frame_terms=None
+):
     """:func:`modes_at_speed` as an xarray Dataset over ``mode``: ``frequency`` [Hz],
     ``damping_ratio``, ``growth_rate`` [1/s], ``whirl``, ``whirl_ratio``, ``kind``."""
     import xarray as xr
 
-    found = modes_at_speed(model, speed_rpm, modes, solver=solver)
+    found = modes_at_speed(model, speed_rpm, modes, solver=solver, frame_terms=frame_terms)
     ratio, names, kinds = whirl_and_kind(model, found, speed_rpm)
 
     def var(values, units, long_name):
@@ -265,7 +276,19 @@ def rotor_modes(model, speed_rpm: float, modes: int = 12, *, solver: str = "auto
             "dofs": model.size,
             "solver": _solver_name(model.size, solver),
             "speed_ratios": ", ".join(f"{k}: {v:.6g}" for k, v in model.speed_ratios.items()),
+            "gyroscopic": _gyroscopic_note(frame_terms),
         },
+    )
+
+
+def _gyroscopic_note(frame_terms) -> str:
+    note = "every shaft element and disc at its shaft's speed ratio (Friswell et al. 2010, ch. 5)"
+    if frame_terms is None:
+        return note
+    carriers = ", ".join(f"{k}: {v:.6g}" for k, v in frame_terms.carrier_ratios.items())
+    return (
+        f"{note}; the planets' Coriolis and centripetal terms at their carriers' speed "
+        f"ratios ({carriers}; Cooley & Parker 2012), carrier, ring and sun inertial"
     )
 
 
@@ -278,14 +301,15 @@ def _solver_name(size: int, solver: str) -> str:
 # --------------------------------------------------------------------------- Campbell
 
 
-def rotor_campbell(model, speeds_rpm, modes: int = 8, *, solver: str = "auto"):
+def rotor_campbell(model, speeds_rpm, modes: int = 8, *, solver: str = "auto", frame_terms=None):
     """Campbell diagram of a drivetrain or rotor model: the ``modes`` lowest modes at
     every rotor speed, tracked by their shapes, and the critical speeds where a lateral
     mode crosses a shaft's 1x line (f = ratio |n| / 60).
 
     Each shaft's and disc's gyroscopic matrix enters at its own speed ratio
-    (``model.gyroscopic``), table bearings at their shafts' speeds.  A gearbox block has
-    no gyroscopic term here (its members' are in the gearbox's own Campbell diagram).
+    (``model.gyroscopic``), table bearings at their shafts' speeds, and with
+    ``frame_terms`` the gearbox block's planets' Coriolis and centripetal terms at their
+    carriers' speeds (:func:`pygear.assembly.speed_terms.drivetrain_frame_terms`).
 
     Returns
     -------
@@ -302,7 +326,10 @@ def rotor_campbell(model, speeds_rpm, modes: int = 8, *, solver: str = "auto"):
 
     speeds = check_speeds(speeds_rpm)
     dense_mass = model.mass.toarray()
-    tracker = ModeTracker(lambda s: modes_at_speed(model, s, modes, solver=solver), dense_mass)
+    tracker = ModeTracker(
+        lambda s: modes_at_speed(model, s, modes, solver=solver, frame_terms=frame_terms),
+        dense_mass,
+    )
     tracking = tracker.track(speeds)
     n = tracking.modes[0].eigenvalues.size
     frequency = np.array([m.frequencies for m in tracking.modes])
@@ -368,8 +395,7 @@ def rotor_campbell(model, speeds_rpm, modes: int = 8, *, solver: str = "auto"):
             "dofs": model.size,
             "solver": _solver_name(model.size, solver),
             "speed_ratios": ", ".join(f"{k}: {v:.6g}" for k, v in model.speed_ratios.items()),
-            "gyroscopic": "every shaft element and disc at its shaft's speed ratio "
-            "(Friswell et al. 2010, ch. 5); no gearbox member terms",
+            "gyroscopic": _gyroscopic_note(frame_terms),
             "tracking_refinements": tracking.refinements,
         },
     )
