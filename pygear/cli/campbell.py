@@ -20,6 +20,10 @@ __all__ = ["HANDLERS", "add_parsers", "campbell_summary"]
 MEMBERS = ("carrier", "input")
 """Reference members the speeds may be given for."""
 
+SPEED_TERMS = ("all", "planets")
+"""Members of a gearbox case that carry Cooley & Parker's terms."""
+
+
 def add_parsers(commands: argparse._SubParsersAction) -> None:
     """Add the ``campbell`` subcommand."""
     campbell = commands.add_parser(
@@ -32,7 +36,6 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
     )
     campbell.add_argument(
         "--speeds",
-        required=True,
         metavar="START:STOP:COUNT",
         help="speeds of the reference member [rpm]: COUNT equally spaced from START to "
         "STOP (a negative START: --speeds=-100:100:21)",
@@ -49,6 +52,12 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--damping", action="store_true", help="include the case's damping (damping ratios)"
     )
     campbell.add_argument(
+        "--speed-terms",
+        default="all",
+        help="a gearbox case: all (every member in its carrier's frame, default) or planets "
+        "(the planets' terms, carrier, ring and sun inertial: as in a drivetrain)",
+    )
+    campbell.add_argument(
         "--modes",
         type=int,
         default=8,
@@ -59,6 +68,13 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--solver",
         default="auto",
         help="a rotor or drivetrain case: auto (dense up to 400 DOFs), sparse or dense",
+    )
+    campbell.add_argument(
+        "--critical-speed-map",
+        metavar="KMIN:KMAX:COUNT",
+        help="a rotor or drivetrain case, instead of --speeds: the undamped critical speeds "
+        "against every shaft bearing's radial stiffness, COUNT values spaced "
+        "logarithmically from KMIN to KMAX [N/m] (critical_speed_map.nc and .png)",
     )
     campbell.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     campbell.add_argument(
@@ -140,10 +156,18 @@ def _print_table(campbell, summary: dict) -> None:
 
 
 def _campbell(args: argparse.Namespace) -> int:
+    if args.critical_speed_map is not None:
+        return _critical_speed_map(args)
+    if args.speeds is None:
+        raise CaseError("--speeds START:STOP:COUNT is required (or --critical-speed-map)")
     start, stop, count = parse_range(args.speeds)
     if args.member not in MEMBERS:
         raise CaseError(f"--member must be one of {', '.join(MEMBERS)} (got {args.member!r})")
     harmonics = _harmonics(args.harmonics)
+    if args.speed_terms not in SPEED_TERMS:
+        raise CaseError(
+            f"--speed-terms must be one of {', '.join(SPEED_TERMS)} (got {args.speed_terms!r})"
+        )
     from ..runs.plan_checks import check_out_dir
 
     check_out_dir("--out", args.out, "campbell")
@@ -153,10 +177,11 @@ def _campbell(args: argparse.Namespace) -> int:
 
     case = load_case(args.case)
     if case.drivetrain is not None:
-        if args.scene is not None or args.member != "carrier":
+        if args.scene is not None or args.member != "carrier" or args.speed_terms != "all":
             raise CaseError(
-                "--scene and --member are for gearbox cases: a rotor or drivetrain case's "
-                "speeds are the rotor's, and its damping is always included"
+                "--scene, --member and --speed-terms are for gearbox cases: a rotor or "
+                "drivetrain case's speeds are the rotor's, its planets carry their frame "
+                "terms, and its damping is always included"
             )
         return _rotor_campbell(case, args, np.linspace(start, stop, count))
     if args.scene is not None:
@@ -178,6 +203,7 @@ def _campbell(args: argparse.Namespace) -> int:
         member=args.member,
         harmonics=harmonics,
         damping=args.damping,
+        members=args.speed_terms,
     )
     out = args.out or Path("out") / case.name
     path = write_netcdf(
@@ -202,6 +228,7 @@ def _rotor_campbell(case, args: argparse.Namespace, speeds) -> int:
     speed ratios, speeds of the rotor, critical speeds from the 1x crossings."""
     from ..analysis.modes.sparse_gyroscopic import SOLVERS, rotor_campbell
     from ..assembly.drivetrain import assemble_drivetrain
+    from ..assembly.speed_terms import drivetrain_frame_terms
     from ..io import save_figure, write_netcdf
     from ..plots.rotor import plot_rotor_campbell
     from ..runs.json_output import json_text
@@ -211,7 +238,10 @@ def _rotor_campbell(case, args: argparse.Namespace, speeds) -> int:
     if args.modes < 1:
         raise CaseError(f"--modes must be at least 1 (got {args.modes})")
     model = assemble_drivetrain(case, dof_set="spatial")
-    campbell = rotor_campbell(model, speeds, args.modes, solver=args.solver)
+    frame_terms = drivetrain_frame_terms(model, case)
+    campbell = rotor_campbell(
+        model, speeds, args.modes, solver=args.solver, frame_terms=frame_terms
+    )
     out = args.out or Path("out") / case.name
     path = write_netcdf(
         campbell,
@@ -236,6 +266,7 @@ def _rotor_campbell(case, args: argparse.Namespace, speeds) -> int:
             "dofs": model.size,
             "solver": campbell.attrs["solver"],
             "speed_ratios": model.speed_ratios,
+            "gyroscopic": campbell.attrs["gyroscopic"],
             "speeds_rpm": campbell.speed.values.tolist(),
             "frequencies_hz": campbell.frequency.values.tolist(),
             "whirl": campbell.whirl.values.astype(str).tolist(),
@@ -258,6 +289,73 @@ def _rotor_campbell(case, args: argparse.Namespace, speeds) -> int:
     print(f"{len(critical)} critical speeds (1x crossings):")
     for c in critical:
         print(f"  {c['speed_rpm']:>10.1f} rpm  mode {c['mode']:>3}  {c['whirl']:<9}")
+    print(f"wrote {path} and {figure}")
+    return 0
+
+
+def _critical_speed_map(args: argparse.Namespace) -> int:
+    """The undamped critical-speed map of a rotor or drivetrain case."""
+    start, stop, count = parse_range(args.critical_speed_map, "--critical-speed-map", unit="N/m")
+    if start <= 0:
+        raise CaseError(f"--critical-speed-map must start above 0 N/m (got {start:g})")
+    if args.speeds is not None or args.scene is not None or args.member != "carrier":
+        raise CaseError("--critical-speed-map takes no --speeds, --scene or --member")
+    if args.modes < 1:
+        raise CaseError(f"--modes must be at least 1 (got {args.modes})")
+    from ..runs.plan_checks import check_out_dir
+
+    check_out_dir("--out", args.out, "campbell")
+    import numpy as np
+
+    from ..model.case import load_case
+
+    case = load_case(args.case)
+    if case.drivetrain is None:
+        raise CaseError("--critical-speed-map is for rotor and drivetrain cases (shaft bearings)")
+    from ..analysis.modes.critical_speeds import critical_speed_map
+    from ..io import save_figure, write_netcdf
+    from ..plots.critical_map import plot_critical_speed_map
+    from ..runs.json_output import json_text
+
+    critical = critical_speed_map(case, np.geomspace(start, stop, count), args.modes)
+    out = args.out or Path("out") / case.name
+    path = write_netcdf(
+        critical,
+        out / "critical_speed_map.nc",
+        input_hash=case.input_hash(),
+        title=f"Undamped critical-speed map of {case.name}",
+    )
+    drawing = plot_critical_speed_map(critical)
+    figure = save_figure(drawing, out / "critical_speed_map.png", dpi=drawing.dpi, release=True)
+    table = np.where(
+        np.isfinite(critical.critical_speed.values), critical.critical_speed.values, None
+    )
+    if args.json:
+        print(
+            json_text(
+                {
+                    "case": case.name,
+                    "bearing_stiffness_n_per_m": critical.bearing_stiffness.values.tolist(),
+                    "lines": critical.line.values.tolist(),
+                    "critical_speeds_rpm": table.tolist(),
+                    "whirl": critical.whirl.values.astype(str).tolist(),
+                    "files": [str(path), str(figure)],
+                }
+            )
+        )
+        return 0
+    print(
+        f"{case.name}: undamped critical speeds [rpm] against the radial stiffness of "
+        f"{critical.attrs['bearings']} ({critical.attrs['dofs']} DOFs)"
+    )
+    for j, ratio in enumerate(critical.line.values):
+        print(f"1x line of {critical.line_shafts.values[j]} ({ratio:g} x rotor):")
+        for i, k in enumerate(critical.bearing_stiffness.values):
+            row = "  ".join(
+                f"{v:>10.1f} {str(w)[:1].upper()}" if np.isfinite(v) else f"{'-':>12}"
+                for v, w in zip(critical.critical_speed.values[i, j], critical.whirl.values[i, j])
+            )
+            print(f"  {k:>10.3g} N/m  {row}")
     print(f"wrote {path} and {figure}")
     return 0
 
