@@ -145,6 +145,11 @@ class RotorScene:
     parameters: tuple[tuple[str, object], ...] = ()
     transient: None = None
 
+    @property
+    def dof_set(self) -> str:
+        """A rotor transient runs on every DOF of the shaft nodes."""
+        return "spatial"
+
     def validate(self, path: str) -> None:
         """Raise :class:`CaseError` naming the first wrong setting."""
         if self.analyses != ("transient",):
