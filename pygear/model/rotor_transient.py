@@ -78,7 +78,7 @@ class RotorRun:
     unbalances: tuple[DiscUnbalance, ...] = ()
     sample_rate: float | None = None
     integrator: str = "newmark"
-    tolerance: float = 1e-10
+    tolerance: float = 1e-8
 
     @property
     def steps(self) -> int:
