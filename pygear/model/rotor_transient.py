@@ -68,7 +68,7 @@ class RotorRun:
         ``newmark`` (average acceleration, energy-conserving), ``hht`` or
         ``generalized-alpha``.
     tolerance : float
-        Relative change of the gyroscopic force at which a step's iteration stops.
+        Relative change of the gyroscopic force at which a step's iteration stops [-].
     """
 
     duration: float
@@ -136,6 +136,12 @@ class RotorScene:
         The speed profile, the unbalances and the time step.
     description : str
         One line on what the scene shows.
+    analyses : tuple of str
+        ``("transient",)``, the one analysis a rotor scene runs.
+    parameters : tuple
+        Empty: a rotor scene changes no case parameter.
+    transient : None
+        None: a rotor scene's settings are ``run``.
     """
 
     name: str
