@@ -552,6 +552,8 @@ contains
         drive = drive_new
         load = load_new
         if (rotor) rotor_ok = rotor_settled(a_new)
+        ! the gyroscopic force alone still moves: no mesh to name (bad = 0)
+        if (.not. rotor_ok .and. change <= problem%rparam(rp_tolerance) * force_scale) worst = 0
         if (change <= problem%rparam(rp_tolerance) * force_scale .and. torque_change <= &
             problem%rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp)) .and. &
             rotor_ok) then

@@ -302,3 +302,19 @@ def test_unbalance_needs_a_speed_profile():
         RotorTerms(
             None, source="rotation", speed_weights=np.ones(2), unbalances=(Unbalance(0, 1, 1e-4),)
         )
+
+
+def test_a_step_too_long_for_the_speed_is_named():
+    """h Omega = 20: the gyroscopic iteration cannot contract, and the error says why."""
+    from pygear.kernel.newmark import TransientError
+
+    mass, stiffness, gyroscopic = overhung_disc()
+    solver = BandedNewmark(
+        mass,
+        np.zeros((4, 4)),
+        stiffness,
+        1e-2,
+        rotor=RotorTerms(gyroscopic, times=(0.0,), speeds=(2000.0,)),
+    )
+    with pytest.raises(TransientError, match="gyroscopic force did not converge.*time_step"):
+        solver.run(10, q0=np.array([1e-4, 0, 0, 0]))
