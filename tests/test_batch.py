@@ -274,7 +274,7 @@ def expected_runs() -> list[tuple[str, str, tuple]]:
     runs = []
     for directory in sorted(p.parent for p in CASES.glob("*/case.py")):
         case = load_case(directory)
-        # a case without scenes (a plain rotor: its analyses are commands) gets one row
+        # a case without scenes gets one row
         runs += [(directory.name, s.name, s.analyses) for s in case.scenes] or [
             (directory.name, "", ())
         ]
