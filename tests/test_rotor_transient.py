@@ -163,3 +163,27 @@ def test_unbalance_at_an_unknown_disc_is_refused():
             RotorCase(name="x", drivetrain=case.drivetrain, scenes=(scene,)).validate()
     with pytest.raises(CaseError, match="times must increase strictly"):
         RotorRun(1.0, 1e-3, times=(0.0, 0.0), speeds_rpm=(0.0, 1.0)).validate("run")
+
+
+def test_a_varying_speed_with_a_speed_dependent_bearing_is_refused_before_any_run():
+    """A bearing table that changes with speed cannot follow a run-up: the checks
+    ``pygear run`` makes before its first scene refuse it, naming the scene's speeds."""
+    from pygear.model.rotor import BearingCoefficients
+    from pygear.runs.scene_checks import check_scenes
+
+    case = overhung_case()
+    table = BearingCoefficients(speeds=(0.0, 1000.0), k_xx=(1e7, 2e7), k_yy=(1e7, 2e7))
+    bearing = ShaftBearing("oil", "shaft", LENGTH, coefficients=table)
+    drivetrain = Drivetrain(
+        shafts=case.drivetrain.shafts,
+        discs=case.drivetrain.discs,
+        bearings=(*case.drivetrain.bearings, bearing),
+    )
+    steady = RotorScene("steady", RotorRun(0.01, 1e-3, speeds_rpm=(500.0,)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the shaft's density, as above
+        oiled = RotorCase(name="oiled", drivetrain=drivetrain, scenes=(steady, case.scenes[0]))
+        oiled.validate()
+        check_scenes(oiled, [steady])  # one speed: the table at 500 rpm
+        with pytest.raises(CaseError, match=r"scenes\.runup\.run\.speeds_rpm: bearing 'oil'"):
+            check_scenes(oiled, list(oiled.scenes))

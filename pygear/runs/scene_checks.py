@@ -44,7 +44,10 @@ def check_scenes(
     from ..model.rotor_transient import RotorScene
 
     for scene in scenes:
-        if isinstance(scene, RotorScene):  # checked by the case; set up as it runs
+        if isinstance(scene, RotorScene):  # its model and integrator set up, not run
+            from ..analysis.time.rotor_transient import rotor_transient_problem
+
+            rotor_transient_problem(case, scene)
             continue
         scene_case = case.for_scene(scene)
         model = scene_model(scene_case, scene, formulation=formulation)
