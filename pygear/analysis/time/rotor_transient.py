@@ -43,17 +43,19 @@ class RotorTransientProblem:
     probes: list[KernelProbe]
     disc_dofs: dict[str, tuple[int, int]]
 
-    # what the scene runner reports of a model
     @property
     def formulation(self) -> str:
-        return "timoshenko-shaft"
+        """What ``pygear run`` prints as the model's formulation."""
+        return "shaft elements"
 
     @property
     def dof_set(self) -> str:
+        """The model's DOF set (spatial)."""
         return self.model.dof_set
 
     @property
     def size(self) -> int:
+        """Number of DOFs."""
         return self.model.size
 
 
