@@ -82,6 +82,13 @@
 !> newmark_problem), created and checked once; newmark_start and newmark_advance take
 !> it with the run's state, which the caller keeps between chunks.
 !>
+!> Rotor terms (module newmark_gyroscopic): the gyroscopic force -Omega G v and
+!> unbalance forces enter the step equation as loads, the gyroscopic one at the
+!> iterate's velocity inside the same iteration (modes linear and predictor iterate
+!> too when a problem has them), accepted when it moved by at most tolerance times its
+!> largest entry.  On the dense path their share s Khat^-1 f is -X_M M^-1 f, with X_M
+!> the operator's mass block at the run's k_factored and M's band factor.
+!>
 !> Errors are returned as codes with the offending DOF, mesh or step; nothing stops.
 module newmark
   use kinds, only: dp, ik
@@ -94,6 +101,7 @@ module newmark
   use band_lapack, only: band_cholesky_factor, band_cholesky_solve, dense_multiply_transposed
   use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update, &
                            refined_stiffness, refine_solution
+  use newmark_gyroscopic, only: add_rotor_load, add_gyroscopic_force, rotor_speed
   implicit none
   private
 
@@ -171,6 +179,7 @@ contains
     call add_member(problem%members, 1, rstate(rs_drive), rhs)
     call add_member(problem%members, 2, -rstate(rs_load), rhs)
     call problem_restoring(problem, v, q, rhs)
+    if (problem%rotor%active) call add_rotor_load(problem%rotor, 0.0_dp, v, 1.0_dp, .true., rhs)
     if (problem%iparam(ip_mode) /= mode_linear .and. n_mesh > 0) then
       call deflections(q, delta)
       call mesh_stiffness(q, delta, k_used, offset, free, ierr)
@@ -305,6 +314,7 @@ contains
     real(dp), allocatable :: fused(:), a_base(:), load_old(:), x_transposed(:, :)
     real(dp), allocatable :: rate(:), rate_t(:), c_off(:)
     real(dp), allocatable :: refine_operator(:, :), refine_inverse(:, :), refine_work(:)
+    real(dp), allocatable :: rotor_fixed(:), rotor_force(:), rotor_last(:)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:), flips(:)
     logical, allocatable :: damper_on(:)
     type(tooth_contact_table) :: table, coast_table
@@ -314,7 +324,7 @@ contains
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
-    logical :: damped, refined
+    logical :: damped, refined, rotor, rotor_ok
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -372,6 +382,9 @@ contains
     refined = problem%iparam(ip_solver) == solver_refined
     dense = problem%iparam(ip_solver) == solver_dense .or. refined
     sparse = problem%iparam(ip_solver) == solver_sparse
+    rotor = problem%rotor%active  ! gyroscopic and unbalance loads (module newmark_gyroscopic)
+    if (rotor) allocate (rotor_fixed(n), rotor_force(n), rotor_last(n))
+    rotor_ok = .true.
     loads = load_block(n)
     masses = mass_block(n, n_mesh)
     columns = dense_columns(n, n_mesh)
@@ -473,6 +486,7 @@ contains
         end if
       end if
       if (omega_0 > 0.0_dp .and. .not. load_on) speed_old = member_speed(problem%members, 1, v)
+      if (rotor) call rotor_step()
 
       ! first evaluation at the Newmark predictor (a = 0: q = qt; evaluate reads no x)
       call evaluate(a_new, .true., drive, load, g)
@@ -519,6 +533,10 @@ contains
           if (refined) call refine_solution(n, n_mesh, refine_operator, refine_inverse, fused, &
                                             problem%members, problem%mesh, alpha_m, a, a_new, &
                                             refine_work)
+          ! the rotor's share after the refinement: the refinement's residual holds the
+          ! dense product's loads only, and would take a share added before it back out
+          if (rotor) call dense_rotor_share()
+          if (ierr /= nm_ok) return
         else
           rhs = r0
           call add_member(problem%members, 1, (1.0_dp - alpha_f) * drive, rhs)
@@ -528,6 +546,7 @@ contains
               call add_sparse(problem%mesh, m, -(1.0_dp - alpha_f) * g(m), rhs)
             end do
           end if
+          if (rotor) rhs = rhs + rotor_force
           rhs = scale_k * rhs
           if (sparse) then
             call solve_khat(problem%sparse, rhs, info)
@@ -542,7 +561,9 @@ contains
         end if
         if (mode == mode_linear .or. mode == mode_predictor) then
           converged = .true.
-          exit
+          if (rotor) converged = rotor_settled(a_new)  ! the gyroscopic force iterates
+          if (converged .or. it >= max_iterations) exit
+          cycle
         end if
         call evaluate(a_new, .false., drive_new, load_new, g_new)
         if (ierr /= nm_ok) return
@@ -554,8 +575,12 @@ contains
         g = g_new
         drive = drive_new
         load = load_new
+        if (rotor) rotor_ok = rotor_settled(a_new)
+        ! the gyroscopic force alone still moves: no mesh to name (bad = 0)
+        if (.not. rotor_ok .and. change <= problem%rparam(rp_tolerance) * force_scale) worst = 0
         if (change <= problem%rparam(rp_tolerance) * force_scale .and. torque_change <= &
-            problem%rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp))) then
+            problem%rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp)) .and. &
+            rotor_ok) then
           converged = .true.
           exit
         end if
@@ -643,6 +668,52 @@ contains
     end do
 
   contains
+
+    !> The rotor loads of a step (module newmark_gyroscopic): rotor_fixed holds the
+    !> alpha_f share at t_n and the unbalance at t_n+1, rotor_force adds the gyroscopic
+    !> force at t_n+1 and the velocities the last acceleration would give, vt + gamma dt
+    !> a_n (off by gamma dt (a_n+1 - a_n), a step's change, where vt alone is off by
+    !> gamma dt a_n+1: the iteration then starts closer).
+    subroutine rotor_step()
+      rotor_fixed = 0.0_dp
+      if (alpha_f /= 0.0_dp) call add_rotor_load(problem%rotor, t_old, v, alpha_f, .true., &
+                                                 rotor_fixed)
+      call add_rotor_load(problem%rotor, t_new, vt, 1.0_dp - alpha_f, .false., rotor_fixed)
+      v_new = vt + (gamma * dt) * a
+      call rotor_update(v_new)
+    end subroutine rotor_step
+
+    !> rotor_force at t_n+1 with the gyroscopic force at velocities x.
+    subroutine rotor_update(x)
+      real(dp), intent(in) :: x(:)  !< velocities at t_n+1 [m/s, rad/s]
+      real(dp) :: speed, rate, angle
+      call rotor_speed(problem%rotor, t_new, x, speed, rate, angle)
+      rotor_force = rotor_fixed
+      call add_gyroscopic_force(problem%rotor, speed, x, 1.0_dp - alpha_f, rotor_force)
+    end subroutine rotor_update
+
+    !> Update rotor_force to the iterate's velocities (x the trial acceleration); true
+    !> when it moved by at most tolerance times its largest entry.
+    logical function rotor_settled(x)
+      real(dp), intent(in) :: x(:)  !< trial acceleration [m/s^2, rad/s^2]
+      rotor_last = rotor_force
+      v_new = vt + (gamma * dt) * x
+      call rotor_update(v_new)
+      rotor_settled = maxval(abs(rotor_force - rotor_last)) <= problem%rparam(rp_tolerance) * &
+                      max(maxval(abs(rotor_force)), tiny(1.0_dp))
+    end function rotor_settled
+
+    !> Dense path: a_new = a_new + s Khat^-1 rotor_force = a_new - X_M M^-1 rotor_force.
+    subroutine dense_rotor_share()
+      rhs = rotor_force
+      call band_cholesky_solve(n, kd, problem%rotor%mass_factor, rhs, info)
+      if (info /= 0) then
+        ierr = nm_err_solve
+        return
+      end if
+      rhs = -rhs
+      call dense_multiply_transposed(n, n, x_transposed, columns, masses, rhs, 1.0_dp, a_new)
+    end subroutine dense_rotor_share
 
     !> A mesh stiffness jumped between the last step and this one (a tooth pair
     !> entered or left contact): take the acceleration at t_n from the equation of

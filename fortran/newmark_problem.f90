@@ -25,6 +25,10 @@
 !> (solver_sparse, module newmark_sparse) holds M, C and K0 on one sparse pattern instead of the bands (kd = 0,
 !> its band arrays unused) and the CHOLMOD factors of Khat and M, made here and released
 !> with the problem.
+!>
+!> Rotor terms (gyroscopic force at a speed, unbalance; module newmark_gyroscopic) are
+!> attached to a created problem by handle (wrappers_gyroscopic.f90); without them the
+!> kernel takes its paths unchanged.
 module newmark_problem
   use kinds, only: dp, ik
   use handles, only: handle_registry, keep_item, find_item, release_item, hd_ok, hd_err_full
@@ -37,6 +41,7 @@ module newmark_problem
                              nm_err_definite, nm_err_mass, nm_err_handle, nm_err_full, &
                              nm_err_unavailable, band_multiply
   use newmark_dense, only: dense_columns, mean_operator, refined_operators
+  use newmark_gyroscopic, only: rotor_terms
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
                             symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, &
                             so_err_mass, so_err_unavailable
@@ -78,6 +83,7 @@ module newmark_problem
     real(dp), allocatable :: refined_operator(:, :)      !< (4n, n) refined path: [-C, -K0, -Khat / s, -M]^T [SI]
     real(dp), allocatable :: refined_inverse(:, :)       !< (n, n) refined path: s Khat^-1, transposed [1/kg]
     type(sparse_operators) :: sparse                     !< sparse path: M, C, K0 and the factors
+    type(rotor_terms) :: rotor                           !< gyroscopic and unbalance loads (module newmark_gyroscopic)
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of

@@ -22,6 +22,7 @@ from pygear.assembly import assemble
 from pygear.assembly.drivetrain_model import scene_model
 from pygear.cli import batch as batch_cli
 from pygear.model.case import replace_parameter
+from pygear.model.rotor_case import RotorCase
 from pygear.runs import batch, sweep
 from pygear.runs.cluster import jobqueue_cluster, validate_cluster_options
 
@@ -273,7 +274,7 @@ def expected_runs() -> list[tuple[str, str, tuple]]:
     runs = []
     for directory in sorted(p.parent for p in CASES.glob("*/case.py")):
         case = load_case(directory)
-        # a case without scenes (a plain rotor: its analyses are commands) gets one row
+        # a case without scenes gets one row
         runs += [(directory.name, s.name, s.analyses) for s in case.scenes] or [
             (directory.name, "", ())
         ]
@@ -302,6 +303,9 @@ def test_batch_runs_every_case(tmp_path, scheduler):
             assert row.lowest_hz == pytest.approx(lowest, rel=1e-10)
             assert (tmp_path / case_name / f"{scene_name}.nc").is_file()
             assert all(Path(f).is_file() for f in row.files)
+        elif isinstance(load_case(CASES / case_name), RotorCase):  # a rotor's transient
+            assert row.status == "ok", row.error
+            assert (tmp_path / case_name / f"{scene_name}.nc").is_file()
         else:  # a transient: the same t_s as the scene run on its own (run-to-run identical;
             # NaN for a scene without a speed reference, such as a torque reversal)
             assert row.status == "ok", row.error

@@ -229,3 +229,78 @@ def test_spatial_stop_planet_bearings_carry_the_carrier_torque(case):
     carried = planets * tangential[before].mean() * stage.carrier.radius
     assert carried == pytest.approx(carrier_torque, rel=5e-3)
     assert tangential[time > 0.5].min() < 0 < tangential[before].min()
+
+
+def test_spatial_run_carries_each_shafts_gyroscopics_at_its_speed(case):
+    """The spatial stop's kernel holds the drivetrain's gyroscopic matrix (each shaft's
+    elements and discs times its speed over the rotor's) and turns it at the rotor's
+    own speed in the run: per unit rotor speed each shaft's block is its speed ratio
+    (about -96 for the high-speed shaft) times its own G at unit spin."""
+    from pygear.assembly.dof_rows import dof_row
+
+    problem = transient_problem(case, case.scene("emergency_stop_spatial"))
+    solver, model = problem.solver, problem.model
+    arguments = solver.rotor_arguments
+    assert arguments["source"] == 2 and arguments["n_entries"] > 0  # the run's rotation
+    drivetrain = assemble_drivetrain(case, case.scene("emergency_stop_spatial"))
+    ratios = drivetrain.speed_ratios
+    assert min(ratios.values()) < -90  # the generator side turns the other way, faster
+    # the kernel's entries are G's strictly upper entries, in its own DOF order
+    g = drivetrain.gyroscopic.toarray()
+    rebuilt = np.zeros_like(g)
+    rows = solver.order[arguments["row"][: arguments["n_entries"]] - 1]
+    columns = solver.order[arguments["column"][: arguments["n_entries"]] - 1]
+    rebuilt[rows, columns] = arguments["value"][: arguments["n_entries"]]
+    rebuilt -= rebuilt.T
+    np.testing.assert_array_equal(rebuilt, 0.5 * (g - g.T))
+    speed = np.zeros(model.size)
+    speed[solver.order[arguments["speed_index"] - 1]] = arguments["speed_value"]
+    np.testing.assert_array_equal(speed, dof_row(model, "rotor.theta_z"))
+    # each shaft's block is its ratio times its G at unit spin of its own
+    from pygear.assembly.drivetrain import build_structure
+
+    unit = build_structure(case.drivetrain, dict.fromkeys(ratios, 1.0))[0].assemble()
+    checked = 0
+    for shaft in case.drivetrain.shafts:
+        own = [
+            label
+            for label in drivetrain.labels[: drivetrain.gearbox_offset]
+            if label.startswith(f"{shaft.name}_")
+        ]
+        here = [drivetrain.labels.index(label) for label in own]
+        there = [unit.labels.index(label) for label in own]
+        block = unit.gyroscopic.toarray()[np.ix_(there, there)]
+        np.testing.assert_allclose(
+            g[np.ix_(here, here)], ratios[shaft.name] * block, rtol=1e-12, atol=0
+        )
+        checked += bool(np.any(block))
+    assert checked >= 2
+
+
+@pytest.mark.parametrize("equivalent_load", ["iterate", "refactor"])
+def test_spatial_stop_with_gyroscopics_agrees_on_every_kernel_path(
+    case, equivalent_load, monkeypatch
+):
+    """The spatial stop's first 1000 steps (meshes, tooth separation and the shafts'
+    gyroscopics iterated together; refactor mode refactors four times, which the dense
+    path follows by its Woodbury update of the operator the gyroscopic share goes
+    through): banded, dense and sparse agree to 1e-9 of each channel's largest value,
+    what their different rounding (measured 2e-11) carried over the steps allows."""
+    scene = case.scene("emergency_stop_spatial")
+    settings = dataclasses.replace(
+        scene.transient, duration=0.05, mean_window=0.01, equivalent_load=equivalent_load
+    )
+    scene = dataclasses.replace(scene, transient=settings)
+    runs = {}
+    from pygear.kernel.newmark_storage import cholmod_available
+
+    paths = ["banded_cholesky", "dense_inverse", "dense_refined"] + ["sparse_cholesky"] * cholmod_available()
+    for path in paths:
+        monkeypatch.setenv("PYGEAR_LINEAR_SOLVER", path)
+        problem = transient_problem(case, scene)
+        assert problem.solver.linear_solver == path and problem.solver.rotor_arguments
+        runs[path] = problem.solver.run(settings.steps, problem.probes).samples
+    reference = runs["banded_cholesky"]
+    for path, samples in runs.items():
+        for row, expected in zip(samples, reference):
+            assert abs(row - expected).max() <= 1e-9 * abs(expected).max(), path

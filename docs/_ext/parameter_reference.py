@@ -142,6 +142,9 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "model.rotor.Disc",
             "model.rotor.BearingCoefficients",
             "model.rotor_case.RotorCase",
+            "model.rotor_transient.RotorScene",
+            "model.rotor_transient.RotorRun",
+            "model.rotor_transient.DiscUnbalance",
         ),
     ),
     (

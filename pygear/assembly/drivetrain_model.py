@@ -80,8 +80,8 @@ def drivetrain_transient_model(case: Case, scene: Scene | SceneSettings | None =
         if asked:
             raise CaseError(
                 f"scenes.{settings.name}.effects: {asked[0]!r} is not available for a whole "
-                "drivetrain yet (its shafts' gyroscopic terms are in the modal analysis "
-                "only); remove it or run the gearbox case"
+                "drivetrain yet (its shafts' and discs' gyroscopic terms are always in its "
+                "transient, at each shaft's speed); remove it or run the gearbox case"
             )
     # SciPy's sparse package loads for drivetrains only: a gearbox run does without it
     from .drivetrain import assemble_drivetrain
@@ -174,4 +174,5 @@ def as_model(drivetrain: DrivetrainModel, case: Case) -> Model:
         gyroscopic=None,
         attributes=attributes,
         spatial_size=n,
+        shaft_gyroscopic=drivetrain.gyroscopic if drivetrain.gyroscopic.nnz else None,
     )

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -118,6 +118,10 @@ class Model:
         Reduced M, K0 (mean mesh stiffness) and Rayleigh C.
     gyroscopic : ndarray or None
         Reduced Coriolis matrix when the scene asks for speed-dependent terms.
+    shaft_gyroscopic : scipy.sparse matrix or None
+        A whole drivetrain's spinning shafts and discs: G per rad/s of the rotor
+        (each shaft's part times its speed ratio), which the transient applies at the
+        rotor's own speed (:mod:`pygear.kernel.newmark_rotor`).
     reduction : ndarray
         T with q_full = T q.
     dof_labels, full_labels : list of str
@@ -142,6 +146,7 @@ class Model:
     gyroscopic: np.ndarray | None = None
     attributes: dict = field(default_factory=dict)
     spatial_size: int = 0  # reduced DOFs of the same gearbox with the spatial DOF set
+    shaft_gyroscopic: Any = None
 
     @property
     def size(self) -> int:

@@ -32,6 +32,7 @@ import numpy as np
 
 from . import _kernel
 from .newmark_rebase import RigidRebase
+from .newmark_rotor import RotorTerms, rotor_arguments
 from .newmark_storage import is_sparse_matrix, kernel_storage
 from .newmark_support import (
     EQUIVALENT_LOAD_CODES,
@@ -297,6 +298,8 @@ class BandedNewmark:
         Khat a = rhs; the environment variable ``PYGEAR_LINEAR_SOLVER``
         overrides it.  ``linear_solver`` and ``linear_solver_reason`` hold the choice.
         M, C and K0 may be SciPy sparse matrices (flexible drivetrains).
+    rotor : RotorTerms, optional
+        Gyroscopic force -Omega(t) G v and unbalances (:mod:`~pygear.kernel.newmark_rotor`).
     """
 
     def __init__(
@@ -324,6 +327,7 @@ class BandedNewmark:
         acceleration_limit: float = 1e15,
         labels: Sequence[str] | None = None,
         linear_solver: str = "auto",
+        rotor: RotorTerms | None = None,
     ) -> None:
         mass, damping, stiffness = (
             x if is_sparse_matrix(x) else np.asarray(x, dtype=np.float64)
@@ -393,6 +397,7 @@ class BandedNewmark:
                 drive or LawArrays(), load or LawArrays(), input_weights, output_weights
             ),
         }
+        self.rotor_arguments = rotor_arguments(rotor, self.position) if rotor is not None else {}
         table = self.meshes.table if self.meshes is not None and self.meshes.time_varying else None
         self.table = table
         self._problem_handle: int | None = None
@@ -525,6 +530,18 @@ class BandedNewmark:
                 raise self._error(int(ierr), int(bad), 0, "starting")
             self._problem_handle = int(handle)
             weakref.finalize(self, _kernel.transient_problem_free, int(handle)).atexit = False
+            if self.rotor_arguments:
+                bad, ierr = _kernel.transient_problem_set_rotor(
+                    handle=handle,
+                    n=self.n,
+                    kd=self.bandwidth,
+                    n_mesh=len(self.arguments["mean_stiffness"]),
+                    **self.rotor_arguments,
+                )
+                if ierr:
+                    raise ValueError(
+                        f"rotor terms refused by the kernel (code {int(ierr)}, entry {int(bad)})"
+                    )
         return self._problem_handle
 
     def _table_phases(self) -> dict:
@@ -670,6 +687,7 @@ class BandedNewmark:
                 self.rparam,
                 self.iparam,
                 *self.arguments.values(),
+                *self.rotor_arguments.values(),
                 *table,
             ),
             (n_steps, decimation, window_steps, identity),

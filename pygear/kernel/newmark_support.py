@@ -392,6 +392,12 @@ def kernel_error(
             f"deflection_limit = {deflection_limit:g} m (the solution is diverging); "
             f"likely cause: {cause}"
         )
+    if ierr == 6 and bad == 0:  # the gyroscopic force's iteration (newmark_gyroscopic)
+        return TransientError(
+            f"transient {phase} {when}: the gyroscopic force did not converge in "
+            f"{max_iterations} iterations; likely cause: a time step too long for the "
+            f"speed (the iteration contracts by about time_step x speed): reduce time_step"
+        )
     if ierr == 6:
         return TransientError(
             f"transient {phase} {when}: equivalent_load={mode!r} did not converge in "

@@ -1,6 +1,7 @@
 """Figures of rotor results (plotting only; nothing here computes a result): the
 Campbell diagram of a rotor or drivetrain model with its 1x lines and critical speeds,
-and the Bode and polar plots of an unbalance response."""
+the Bode and polar plots of an unbalance response, and a rotor run's orbit radii over
+its speed."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from matplotlib.figure import Figure
 
 from .layout import new_figure
 
-__all__ = ["plot_rotor_campbell", "plot_unbalance_response"]
+__all__ = ["plot_rotor_campbell", "plot_rotor_run", "plot_unbalance_response"]
 
 DPI = 130
 """Resolution the figures are drawn at [pixels per inch]; save them at the same."""
@@ -76,5 +77,27 @@ def plot_unbalance_response(response: xr.Dataset) -> Figure:
     polar.set_title("polar plot of x")
     figure.suptitle(f"{response.attrs['case']}: unbalance {response.attrs['unbalance']}")
     figure.subplots_adjust(left=0.08, right=0.97, bottom=0.1, top=0.9, hspace=0.3, wspace=0.25)
+    figure.dpi = DPI
+    return figure
+
+
+def plot_rotor_run(run: xr.Dataset) -> Figure:
+    """Each disc's orbit radius over the rotor speed of a rotor transient (a run-up's
+    passage through its critical speeds), and over time."""
+    figure = new_figure(8.0, 6.0, DPI)
+    by_speed = figure.add_subplot(2, 1, 1)
+    by_time = figure.add_subplot(2, 1, 2)
+    for disc in run.disc.values:
+        radius = run.orbit_radius.sel(disc=disc).values * 1e6
+        by_speed.plot(run.speed.values, radius, lw=0.8, label=str(disc))
+        by_time.plot(run.time.values, radius, lw=0.8, label=str(disc))
+    by_speed.set_xlabel("rotor speed [rpm]")
+    by_time.set_xlabel("time [s]")
+    for axes in (by_speed, by_time):
+        axes.set_ylabel("orbit radius [um]")
+        axes.grid(True, alpha=0.3)
+    by_speed.legend(loc="best", fontsize=8)
+    figure.suptitle(f"{run.attrs['case']}: scene {run.attrs['scene']}")
+    figure.subplots_adjust(left=0.1, right=0.97, bottom=0.08, top=0.92, hspace=0.35)
     figure.dpi = DPI
     return figure

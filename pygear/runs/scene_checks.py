@@ -41,7 +41,14 @@ def check_scenes(
         Naming the scene's parameter and the rule, for the first scene that fails.
     """
     files, counted, sizes = 0.0, [], {}
+    from ..model.rotor_transient import RotorScene
+
     for scene in scenes:
+        if isinstance(scene, RotorScene):  # its model and integrator set up, not run
+            from ..analysis.time.rotor_transient import rotor_transient_problem
+
+            rotor_transient_problem(case, scene)
+            continue
         scene_case = case.for_scene(scene)
         model = scene_model(scene_case, scene, formulation=formulation)
         if "transient" not in scene.analyses or scene.transient is None:

@@ -256,8 +256,12 @@ def run_scene(
     pygear.runs.transient_outputs.TransientInterrupted
         Ctrl-C or SIGTERM during a transient (its checkpoint kept, when asked).
     """
+    from ..model.rotor_transient import RotorScene
+
     options = options or RunOptions()
     started = time.perf_counter()
+    if isinstance(scene, RotorScene):  # a plain rotor's transient (docs/rotors.md)
+        return _rotor_scene(case, scene, Path(out), options, started)
     scene_case, model = scene_model_for(case, scene, options.formulation)
     outcome = SceneOutcome(scene.name, model)
     summary = outcome.summary
@@ -276,4 +280,46 @@ def run_scene(
         if dataset is not None:
             outcome.transient = dataset
     summary["wall_s"] = time.perf_counter() - started
+    return outcome
+
+
+def _rotor_scene(case, scene, out: Path, options: RunOptions, started: float) -> SceneOutcome:
+    """A rotor scene's run: ``<scene>.nc`` (disc displacements, orbit radii, speed),
+    then ``<scene>.png`` (orbit radius over speed)."""
+    from ..analysis.time.rotor_transient import (
+        rotor_summary,
+        rotor_transient_problem,
+        run_rotor_transient,
+    )
+    from ..io import write_netcdf
+    from ..model.case_json import case_json
+
+    problem = rotor_transient_problem(case, scene)
+    outcome = SceneOutcome(scene.name, problem)
+    dataset = run_rotor_transient(case, scene, progress=options.progress, problem=problem)
+    with task_files():
+        files = [
+            write_netcdf(
+                dataset,
+                out / f"{scene.name}.nc",
+                input_hash=case.input_hash(),
+                title=f"Rotor transient {scene.name} of {case.name}",
+                case_json=case_json(case),
+            )
+        ]
+        if options.figures:
+            from ..io import save_figure
+            from ..plots.rotor import plot_rotor_run
+
+            drawing = plot_rotor_run(dataset)
+            path = out / f"{scene.name}.png"
+            files.append(save_figure(drawing, path, dpi=drawing.dpi, release=True))
+    outcome.summary.update(
+        formulation=problem.formulation,
+        dof_set=problem.dof_set,
+        dofs=problem.size,
+        files=[str(p) for p in files],
+        **rotor_summary(dataset),
+        wall_s=time.perf_counter() - started,
+    )
     return outcome

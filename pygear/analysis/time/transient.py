@@ -31,6 +31,7 @@ from ...kernel.newmark import (
     RunResult,
     TransientError,
 )
+from ...kernel.newmark_rotor import RotorTerms
 from ...linalg import generalized_eigh
 from ...model.case import Case, Scene
 from ...model.transient_settings import Transient
@@ -284,6 +285,7 @@ def _new_problem(
         model.damping,
         model.stiffness,
         settings.time_step,
+        rotor=shaft_gyroscopics(model),
         integrator=settings.integrator,
         spectral_radius=settings.spectral_radius,
         meshes=meshes,
@@ -322,6 +324,19 @@ def _new_problem(
     if settings.start_loaded:
         problem.initial_displacement = loaded_displacement(problem)
     return problem
+
+
+def shaft_gyroscopics(model: Model) -> RotorTerms | None:
+    """A whole drivetrain's shafts and discs spinning at their speed ratios times the
+    rotor's own speed (its theta_z rate in the run): the kernel's gyroscopic force; None
+    for a gearbox or a torsional model (no entries)."""
+    gyroscopic = getattr(model, "shaft_gyroscopic", None)
+    if gyroscopic is None:
+        return None
+    row = dof_row(model, "rotor.theta_z")
+    if row is None or not np.any(row):
+        return None
+    return RotorTerms(gyroscopic, source="rotation", speed_weights=row)
 
 
 def run_transient(
