@@ -294,7 +294,9 @@ def test_spatial_stop_with_gyroscopics_agrees_on_every_kernel_path(
     runs = {}
     from pygear.kernel.newmark_storage import cholmod_available
 
-    paths = ["banded_cholesky", "dense_inverse", "dense_refined"] + ["sparse_cholesky"] * cholmod_available()
+    paths = ["banded_cholesky", "dense_inverse", "dense_refined"] + [
+        "sparse_cholesky"
+    ] * cholmod_available()
     for path in paths:
         monkeypatch.setenv("PYGEAR_LINEAR_SOLVER", path)
         problem = transient_problem(case, scene)

@@ -18,7 +18,9 @@ from pygear.kernel.newmark import BandedNewmark, KernelProbe
 from pygear.kernel.newmark_rotor import RotorTerms, Unbalance
 from pygear.kernel.newmark_storage import cholmod_available
 
-PATHS = ["banded_cholesky", "dense_inverse", "dense_refined"] + (["sparse_cholesky"] if cholmod_available() else [])
+PATHS = ["banded_cholesky", "dense_inverse", "dense_refined"] + (
+    ["sparse_cholesky"] if cholmod_available() else []
+)
 
 # an overhung disc on a massless cantilever shaft, clamped at z = 0, disc at z = L
 YOUNG, LENGTH, DIAMETER = 211e9, 0.5, 0.025
