@@ -36,6 +36,7 @@ module newmark_problem
                              nm_err_mass, nm_err_handle, nm_err_full, nm_err_unavailable, &
                              band_multiply
   use newmark_dense, only: dense_columns, mean_operator
+  use rolling_bearing, only: bearing_set
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
                             symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, &
                             so_err_mass, so_err_unavailable
@@ -75,6 +76,7 @@ module newmark_problem
     real(dp), allocatable :: dense_operator(:, :)        !< (3n + n_mesh + 2, n) dense path: X0^T [SI]
     real(dp), allocatable :: dense_mesh_products(:, :)   !< (n_mesh, 3n + n_mesh + 2) dense path: B X0 [SI]
     type(sparse_operators) :: sparse                     !< sparse path: M, C, K0 and the factors
+    type(bearing_set) :: bearings                        !< rolling bearings (module rolling_bearing), none by default
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of

@@ -37,6 +37,7 @@ from ...model.transient_settings import Transient
 from ...rigid_modes import rigid_body_mask
 from ..condition.sensor_signal import compile_scene_probes
 from ..signals.probes import RPM_PER_RAD_S, state_probes
+from .bearing_element import BEARING_EFFECT, bearing_terms
 from .run_dataset import equilibrium_table
 from .run_dataset import run_dataset as _dataset
 from .transient_checks import (
@@ -274,6 +275,8 @@ def _new_problem(
             backlash=backlash,
             damping=np.array([mesh.damping for mesh in model.meshes]),
         )
+    # rolling bearings in place of their springs, only when the scene asks for them
+    bearings = bearing_terms(case, model) if BEARING_EFFECT in effects else None
     probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
@@ -301,6 +304,7 @@ def _new_problem(
         speed_reference=omega_0,
         deflection_limit=settings.deflection_limit,
         labels=model.dof_labels,
+        bearings=bearings,
     )
     problem = TransientProblem(
         case,
