@@ -65,14 +65,14 @@ EFFECTS = (
     "helical_coupling",
     "rolling_bearing_contact",
 )
-"""Optional effects a scene may call for (docs/model.md §7).  ``rolling_bearing_contact``
-puts the case's rolling bearings into a transient run as Hertz contacts with clearance,
-varying compliance and defects in place of their linear springs (docs/bearings.md).
-``helical_coupling`` asks that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
+"""Optional effects a scene may call for (docs/model.md §7).  ``helical_coupling`` asks
+that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
 open); naming it refuses a DOF set that would drop them.  ``gyroscopic_all_members``
 writes every planetary stage in its carrier's frame with Cooley & Parker's (2012)
 gyroscopic and centripetal terms on every member (``speed_dependent_planet_terms``:
-the planets only)."""
+the planets only).  ``rolling_bearing_contact`` puts the case's rolling bearings into
+a transient run as Hertz contacts with clearance, varying compliance and defects in
+place of their linear springs (docs/bearings.md)."""
 
 
 @dataclass(frozen=True)
