@@ -282,6 +282,9 @@ class BearingDefect:
         The element carrying an ``element`` defect (0 .. Z - 1).
     profile : str
         Entry/exit profile, :data:`DEFECT_PROFILES`.
+    planet : int or None
+        For a planet bearing in a transient run: the planet (1-based) whose bearing
+        carries the defect; None, every planet's.
     """
 
     location: str
@@ -290,6 +293,7 @@ class BearingDefect:
     angle_deg: float = 0.0
     element: int = 0
     profile: str = "rectangular"
+    planet: int | None = None
 
     def __post_init__(self) -> None:
         self.validate("defect")
@@ -305,6 +309,10 @@ class BearingDefect:
             raise CaseError(f"{path}.angle_deg must be a finite angle (got {self.angle_deg!r})")
         if not is_whole_number(self.element) or self.element < 0:
             raise CaseError(f"{path}.element must be a whole number >= 0 (got {self.element!r})")
+        if self.planet is not None and (not is_whole_number(self.planet) or self.planet < 1):
+            raise CaseError(
+                f"{path}.planet must be a whole number >= 1 or None (got {self.planet!r})"
+            )
         if bearing is None:
             return
         spacing = math.pi * bearing.pitch_diameter / bearing.elements

@@ -54,10 +54,13 @@ def bearing_constants(bearing: RollingBearing, spring: float) -> np.ndarray:
     )
 
 
-def defect_rows(bearing: RollingBearing, index: int) -> list[tuple[tuple[int, int, int], tuple]]:
-    """The kernel's defect entries of ``bearing`` (1-based bearing ``index``): race spalls
-    (angle, angular width on the race, the depth the element reaches) and waviness
-    (phase, order, amplitude).  Element defects are not in the kernel."""
+def defect_rows(
+    bearing: RollingBearing, index: int, planet: int | None = None
+) -> list[tuple[tuple[int, int, int], tuple]]:
+    """The kernel's defect entries of ``bearing`` (1-based bearing ``index``) on planet
+    ``planet`` (None: a shaft bearing): race spalls (angle, angular width on the race,
+    the depth the element reaches) and waviness (phase, order, amplitude).  Element
+    defects are not in the kernel; a defect naming another planet is left out."""
     d, pitch = bearing.element_diameter, bearing.pitch_diameter
     cos_a = math.cos(math.radians(bearing.contact_angle_deg))
     radius = {"outer": 0.5 * (pitch + d * cos_a), "inner": 0.5 * (pitch - d * cos_a)}
@@ -68,6 +71,8 @@ def defect_rows(bearing: RollingBearing, index: int) -> list[tuple[tuple[int, in
                 f"rolling_bearings[{bearing.name!r}].defects[{n}].location 'element' is not "
                 "in transient runs (race defects only)"
             )
+        if defect.planet is not None and planet is not None and defect.planet != planet:
+            continue
         half = 0.5 * min(defect.width, d)
         drop = min(defect.depth, 0.5 * d - math.sqrt(max(0.25 * d * d - half * half, 0.0)))
         rows.append(
@@ -140,7 +145,14 @@ def bearing_terms(case: object, model: Model) -> BearingTerms | None:
     placed = []
     for n, bearing in enumerate(bearings):
         path = f"rolling_bearings[{n}]"
-        for body, spring in _bodies(model, bearing, path):
+        bodies = _bodies(model, bearing, path)
+        for k, defect in enumerate(bearing.defects):
+            if defect.planet is not None and (not bearing.planet or defect.planet > len(bodies)):
+                raise CaseError(
+                    f"{path}.defects[{k}].planet {defect.planet} names no planet of "
+                    f"{bearing.location!r} ({len(bodies) if bearing.planet else 'not'} planets)"
+                )
+        for body, spring in bodies:
             sharing[body] = sharing.get(body, 0) + 1
             placed.append((bearing, body, spring))
     names, elements, params, rows, defects, values = [], [], [], [], [], []
@@ -159,7 +171,8 @@ def bearing_terms(case: object, model: Model) -> BearingTerms | None:
         elements.append(bearing.elements)
         params.append(bearing_constants(bearing, spring.stiffness[0] / sharing[body]))
         rows.extend([sign * x, sign * y, inner, outer])
-        for ints, reals in defect_rows(bearing, index):
+        planet = int(body.rpartition(".planet")[2]) if bearing.planet else None
+        for ints, reals in defect_rows(bearing, index, planet):
             defects.append(ints)
             values.append(reals)
     return BearingTerms(
