@@ -116,7 +116,8 @@ contains
     integer(ik), intent(out) :: loaded(:)                !< (n_bearing) elements in contact [-]
     integer(ik) :: b, j, d, z, base
     real(dp) :: x, y, theta_i, theta_o, cage, psi, c, s, delta, q, k_n, exponent, half_gap, &
-                cos_alpha, ring, gap
+                cos_alpha, ring, gap, c_step, s_step, c_next
+    logical :: defects
 
     do b = 1, set%n_bearing
       base = bearing_rows_per * (b - 1)
@@ -132,11 +133,21 @@ contains
       cage = set%param(bp_cage_inner, b) * theta_i + set%param(bp_cage_outer, b) * theta_o
       force(:, b) = 0.0_dp
       loaded(b) = 0
+      defects = any(set%defect(1, 1:set%n_defect) == b)
+      ! the elements' directions by rotation from the cage's (two cosines per bearing;
+      ! the recurrence's rounding grows by about eps per element, 1e-14 at Z = 100)
+      c = cos(cage)
+      s = sin(cage)
+      c_step = cos(two_pi / real(z, dp))
+      s_step = sin(two_pi / real(z, dp))
       do j = 0, z - 1
-        psi = cage + two_pi * real(j, dp) / real(z, dp)
-        c = cos(psi)
-        s = sin(psi)
+        if (j > 0) then
+          c_next = c * c_step - s * s_step
+          s = s * c_step + c * s_step
+          c = c_next
+        end if
         delta = (x * c + y * s - half_gap) * cos_alpha
+        if (defects) psi = cage + two_pi * real(j, dp) / real(z, dp)
         do d = 1, set%n_defect  ! what the defects of this bearing take off the contact
           if (set%defect(1, d) /= b) cycle
           ring = merge(theta_o, theta_i, set%defect(2, d) == ring_outer)
@@ -149,7 +160,8 @@ contains
           end if
         end do
         if (delta > 0.0_dp) then
-          q = k_n * delta**exponent
+          q = k_n * delta * sqrt(delta)  ! n = 3/2
+          if (exponent /= 1.5_dp) q = k_n * delta**exponent
           force(1, b) = force(1, b) + q * cos_alpha * c
           force(2, b) = force(2, b) + q * cos_alpha * s
           loaded(b) = loaded(b) + 1
