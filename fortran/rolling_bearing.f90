@@ -114,10 +114,10 @@ contains
     real(dp), intent(out) :: g(:, :)                     !< (2, n_bearing) equivalent loads [N]
     real(dp), intent(out) :: force(:, :)                 !< (2, n_bearing) F = sum Q_j cos(alpha) e_j [N]
     integer(ik), intent(out) :: loaded(:)                !< (n_bearing) elements in contact [-]
-    integer(ik) :: b, j, d, z, base
+    integer(ik) :: b, j, d, z, base, first, last
     real(dp) :: x, y, theta_i, theta_o, cage, psi, c, s, delta, q, k_n, exponent, half_gap, &
-                cos_alpha, ring, gap, c_step, s_step, c_next
-    logical :: defects
+                cos_alpha, ring, gap, c_step, s_step, c_next, radial, half_zone, direction
+    logical :: defects, wavy
 
     do b = 1, set%n_bearing
       base = bearing_rows_per * (b - 1)
@@ -134,14 +134,31 @@ contains
       force(:, b) = 0.0_dp
       loaded(b) = 0
       defects = any(set%defect(1, 1:set%n_defect) == b)
-      ! the elements' directions by rotation from the cage's (two cosines per bearing;
+      wavy = any(set%defect(1, 1:set%n_defect) == b .and. set%defect(3, 1:set%n_defect) == &
+                 defect_waviness)
+      ! with clearance and no waviness (spalls only take contact away) only the elements
+      ! within the load zone, |psi - direction| < acos(P_d / (2 e)), can touch
+      first = 0
+      last = z - 1
+      radial = hypot(x, y)
+      if (half_gap >= 0.0_dp .and. .not. wavy) then
+        if (radial <= half_gap) then  ! inside the clearance: no element touches
+          last = -1
+        else
+          half_zone = acos(half_gap / radial)
+          direction = atan2(y, x)
+          first = ceiling((direction - half_zone - cage) * real(z, dp) / two_pi, ik)
+          last = min(floor((direction + half_zone - cage) * real(z, dp) / two_pi, ik), first + z - 1)
+        end if
+      end if
+      ! the elements' directions by rotation from the first's (two cosines per bearing;
       ! the recurrence's rounding grows by about eps per element, 1e-14 at Z = 100)
-      c = cos(cage)
-      s = sin(cage)
+      c = cos(cage + two_pi * real(first, dp) / real(z, dp))
+      s = sin(cage + two_pi * real(first, dp) / real(z, dp))
       c_step = cos(two_pi / real(z, dp))
       s_step = sin(two_pi / real(z, dp))
-      do j = 0, z - 1
-        if (j > 0) then
+      do j = first, last
+        if (j > first) then
           c_next = c * c_step - s * s_step
           s = s * c_step + c * s_step
           c = c_next
