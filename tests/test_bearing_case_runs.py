@@ -109,3 +109,31 @@ def test_an_element_defect_is_refused_before_the_run(study):
     case = dataclasses.replace(study.case, rolling_bearings=(spalled,))
     with pytest.raises(CaseError, match=r"defects\[0\]\.location 'element'"):
         run_transient(case, steady_scene(study, ("rolling_bearing_contact",), duration=0.01))
+
+
+def test_nrel_scene_puts_the_spall_on_planet_one_and_runs():
+    """The NREL 5 MW case's planet_bearing_outer_race scene: all 12 planet bearings
+    (two per pin, three pins per stage, two stages) are Hertz contacts, and only
+    planet 1's IMS-PL-A carries the spall, as its outer-race width over the
+    race radius (D + d) / 2 and its depth; a short stretch of the scene runs with the
+    ring sensor recording."""
+    from pygear.analysis.time.transient import transient_problem
+    from pygear.model.case import load_case
+
+    case = load_case("nrel5mw_gearbox")
+    scene = case.scene("planet_bearing_outer_race")
+    short = dataclasses.replace(
+        scene, transient=dataclasses.replace(scene.transient, duration=0.2, mean_window=0.1)
+    )
+    problem = transient_problem(case.for_scene(short), short)
+    terms = problem.solver.bearings
+    assert terms.size == 12
+    (spalled,) = terms.defects[0]
+    name = terms.names[spalled - 1]
+    assert name == "IMS-PL-A@stage2.planet1"
+    bearing = next(b for b in case.rolling_bearings if b.name == "IMS-PL-A")
+    radius = 0.5 * (bearing.pitch_diameter + bearing.element_diameter)
+    assert terms.defects[1, 0] == 1  # the outer ring
+    np.testing.assert_allclose(terms.defect_values[1:, 0], [4e-3 / radius, 10e-6], rtol=1e-12)
+    run = run_transient(case.for_scene(short), short, problem=problem)
+    assert np.isfinite(run.sensor_acceleration.values).all()
