@@ -7,6 +7,7 @@ eqs. 1-4), and the energy of the contact law summed in a bare NumPy loop."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -17,7 +18,7 @@ from pygear.analysis.condition.bearing_load import (
     load_distribution,
     varying_compliance,
 )
-from pygear.analysis.time.bearing_element import bearing_constants
+from pygear.analysis.time.bearing_element import bearing_constants, defect_rows
 from pygear.kernel.bearing_terms import BearingTerms
 from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays
 from pygear.model.rolling_bearing import BearingDefect, RollingBearing
@@ -283,3 +284,36 @@ def test_turning_shaft_long_run_settles():
     later, last = x[-2 * second : -second], x[-second:]
     assert np.ptp(last) == pytest.approx(np.ptp(later), rel=1e-6)
     assert np.ptp(last) > 1e-9  # it does vary: the elements pass the load zone
+
+
+def test_waviness_and_wear_shift_the_equilibrium_as_the_contact_energy_says():
+    """Outer-race waviness (order 3, 2 um, at 30 deg) and 3 um of wear (clearance
+    P_d + 2 w): the kernel's equilibrium is the minimum of the contact energy
+    U = sum K/(n+1) <delta_j>^(n+1) - F x with delta_j = x cos psi_j + y sin psi_j
+    - P_d/2 - w + A cos(N (psi_j - phi)), found here by SciPy's minimiser (to 1e-6 of
+    the displacement)."""
+    from scipy.optimize import minimize
+
+    from pygear.model.rolling_bearing import DistributedFault
+
+    fault = DistributedFault("outer", 3, 2e-6, 30.0, wear=3e-6)
+    bearing = dataclasses.replace(SKF_6205, faults=(fault,))
+    force = 2e3
+    spring = float(load_distribution(SKF_6205, force).stiffness.values[0, 0])
+    rows = tuple(defect_rows(bearing, 1))  # the waviness as the case's runs pass it
+    assert rows == (((1, 1, 2), (math.radians(30.0), 3.0, 2e-6)),)
+    solver = shaft_in_bearing(bearing, force, spring=spring, defects=rows)
+    x, y = solver.run(4000, PROBES[:2]).samples[:, -1]
+
+    k_n, n = contact_constant(SKF_6205), SKF_6205.load_exponent
+    psi = 2 * math.pi * np.arange(SKF_6205.elements) / SKF_6205.elements
+    crest = 2e-6 * np.cos(3 * (psi - math.radians(30.0)))
+
+    def energy(q):
+        delta = q[0] * np.cos(psi) + q[1] * np.sin(psi) - 5e-6 - 3e-6 + crest
+        return (k_n / (n + 1) * np.sum(np.maximum(delta, 0) ** (n + 1)) - force * q[0]) * 1e3
+
+    best = minimize(energy, [3e-5, 0.0], method="Nelder-Mead",
+                    options={"xatol": 1e-13, "fatol": 1e-16, "maxiter": 20000})  # fmt: skip
+    np.testing.assert_allclose([x, y], best.x, atol=1e-6 * abs(best.x[0]))
+    assert abs(y) > 1e-8  # the waviness pushes the shaft sideways: something to match
