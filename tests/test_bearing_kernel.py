@@ -18,7 +18,11 @@ from pygear.analysis.condition.bearing_load import (
     load_distribution,
     varying_compliance,
 )
-from pygear.analysis.time.bearing_element import bearing_constants, defect_rows
+from pygear.analysis.time.bearing_element import (
+    bearing_constants,
+    defect_rows,
+    static_displacement,
+)
 from pygear.kernel.bearing_terms import BearingTerms
 from pygear.kernel.newmark import BandedNewmark, KernelProbe, LawArrays
 from pygear.model.rolling_bearing import BearingDefect, RollingBearing
@@ -317,3 +321,21 @@ def test_waviness_and_wear_shift_the_equilibrium_as_the_contact_energy_says():
                     options={"xatol": 1e-13, "fatol": 1e-16, "maxiter": 20000})  # fmt: skip
     np.testing.assert_allclose([x, y], best.x, atol=1e-6 * abs(best.x[0]))
     assert abs(y) > 1e-8  # the waviness pushes the shaft sideways: something to match
+
+
+@pytest.mark.parametrize("force", [500.0, 2e3])
+def test_loaded_start_solves_the_bearing_law(force):
+    """A run's loaded start with rolling bearings (``static_displacement``, Newton on
+    K q + N(q) = f from the springs' deflection) lands where the quasi-static load
+    distribution puts the shaft, to 1e-8."""
+    spring = float(load_distribution(SKF_6205, 2e3).stiffness.values[0, 0])
+    rows = np.array([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [0, 0, 0]])
+    terms = BearingTerms(
+        ("DE",), np.array([9]), bearing_constants(SKF_6205, spring)[:, None], rows,
+        np.zeros((3, 0), int), np.zeros((3, 0)),
+    )  # fmt: skip
+    stiffness = np.diag([spring, spring, 1.0])  # the shaft's angle held for the solve
+    load = np.array([force, 0.0, 0.0])
+    q = static_displacement(terms, stiffness, load, np.linalg.solve(stiffness, load))
+    expected = load_distribution(SKF_6205, force).displacement.values
+    np.testing.assert_allclose(q[:2], expected, rtol=1e-8, atol=1e-8 * expected[0])

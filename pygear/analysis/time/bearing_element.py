@@ -30,7 +30,14 @@ from ...kernel.bearing_terms import DEFECT_KINDS, RINGS, BearingTerms
 from ...model.rolling_bearing import RollingBearing, rolling_bearings_of
 from ..condition.bearing_load import contact_constant
 
-__all__ = ["BEARING_EFFECT", "bearing_constants", "bearing_terms", "defect_rows"]
+__all__ = [
+    "BEARING_EFFECT",
+    "bearing_constants",
+    "bearing_equivalent_load",
+    "bearing_terms",
+    "defect_rows",
+    "static_displacement",
+]
 
 BEARING_EFFECT = "rolling_bearing_contact"
 """The scene effect that puts rolling bearings into a transient run."""
@@ -183,3 +190,63 @@ def bearing_terms(case: object, model: Model) -> BearingTerms | None:
         defects=np.array(defects, dtype=np.int32).reshape(-1, 3).T,
         defect_values=np.array(values, dtype=np.float64).reshape(-1, 3).T,
     )
+
+
+def bearing_equivalent_load(terms: BearingTerms, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The bearings' equivalent load N(q) over the DOFs and its tangent dN/dq (dense,
+    regularised by 1e-6 of the spring), healthy (no defect), the kernel's law in NumPy:
+    for :func:`static_displacement`."""
+    n = q.size
+    load = np.zeros(n)
+    tangent = np.zeros((n, n))
+    for b in range(terms.size):
+        rows = terms.row_sets(b)
+        x, y, theta_i, theta_o = rows @ q
+        k_n, exponent, clearance, cos_a, cage_i, cage_o, spring = terms.param[:, b]
+        z = int(terms.elements[b])
+        psi = cage_i * theta_i + cage_o * theta_o + 2 * math.pi * np.arange(z) / z
+        c, s = np.cos(psi), np.sin(psi)
+        delta = np.maximum((x * c + y * s - 0.5 * clearance) * cos_a, 0.0)
+        force = k_n * delta**exponent * cos_a
+        slope = exponent * k_n * delta ** (exponent - 1.0) * cos_a**2
+        block = np.array(
+            [[np.sum(slope * c * c), np.sum(slope * c * s)],
+             [np.sum(slope * c * s), np.sum(slope * s * s)]]
+        ) - spring * np.eye(2)  # fmt: skip
+        # a shaft free in its clearance has no stiffness there: 1e-6 of the spring's
+        # keeps the Newton matrix regular (the residual, not the step, sets the answer)
+        block += 1e-6 * max(spring, float(np.trace(block)) + 2 * spring, 1.0) * np.eye(2)
+        pair = rows[:2]
+        elements = np.array([np.sum(force * c), np.sum(force * s)])
+        load += pair.T @ (elements - spring * np.array([x, y]))
+        tangent += pair.T @ block @ pair
+    return load, tangent
+
+
+def static_displacement(
+    terms: BearingTerms, stiffness: np.ndarray, force: np.ndarray, start: np.ndarray
+) -> np.ndarray:
+    """q with stiffness q + N(q) = force (``stiffness`` regular, holding the bearings'
+    springs, N their equivalent load): Newton's method from ``start`` with step halving
+    on the residual, to 1e-10 of the force; ``start`` back if it does not converge
+    (the run then starts with the springs' deflection, as without bearings)."""
+    q = np.array(start, dtype=np.float64)
+    scale = max(float(np.abs(force).max()), 1e-30)
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        return stiffness @ x + bearing_equivalent_load(terms, x)[0] - force
+
+    r = residual(q)
+    for _ in range(100):
+        if np.abs(r).max() <= 1e-10 * scale:
+            return q
+        step = np.linalg.solve(stiffness + bearing_equivalent_load(terms, q)[1], r)
+        factor = 1.0
+        for _ in range(40):
+            trial = q - factor * step
+            r_trial = residual(trial)
+            if np.linalg.norm(r_trial) < np.linalg.norm(r):
+                break
+            factor *= 0.5
+        q, r = trial, r_trial
+    return np.array(start, dtype=np.float64)

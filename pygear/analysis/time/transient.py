@@ -37,7 +37,7 @@ from ...model.transient_settings import Transient
 from ...rigid_modes import rigid_body_mask
 from ..condition.sensor_signal import compile_scene_probes
 from ..signals.probes import RPM_PER_RAD_S, state_probes
-from .bearing_element import BEARING_EFFECT, bearing_terms
+from .bearing_element import BEARING_EFFECT, bearing_terms, static_displacement
 from .run_dataset import equilibrium_table
 from .run_dataset import run_dataset as _dataset
 from .transient_checks import (
@@ -426,7 +426,8 @@ def loaded_displacement(problem: TransientProblem) -> np.ndarray:
     the drivetrain; the rest deflects it: K0 q = f - M Phi Phi^T f with Phi^T M q = 0,
     solved as (K0 + M Phi Phi^T M) q = f - M Phi Phi^T f.  The equation of motion then
     gives the rigid-body acceleration at t = 0 and no elastic one (at mean mesh
-    stiffness), so nothing swings.
+    stiffness), so nothing swings.  With rolling bearings in the run the balance holds
+    their Hertz law (:func:`.bearing_element.static_displacement`).
     """
     model, solver = problem.model, problem.solver
     state = solver.start(v0=problem.initial_velocity)
@@ -438,7 +439,11 @@ def loaded_displacement(problem: TransientProblem) -> np.ndarray:
     rigid = vectors[:, rigid_body_mask(values)]
     relieved = force - mass @ rigid @ (rigid.T @ force)
     regularised = stiffness + mass @ rigid @ rigid.T @ mass
-    return np.linalg.solve(regularised, relieved)
+    linear = np.linalg.solve(regularised, relieved)
+    if solver.bearings is None:
+        return linear
+    # rolling bearings: the same balance with their Hertz law in place of the springs
+    return static_displacement(solver.bearings, regularised, relieved, linear)
 
 
 def checkpoint_identity(problem: TransientProblem) -> str:
