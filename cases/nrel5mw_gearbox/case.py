@@ -917,8 +917,8 @@ BEARING_SCENE = Transient(
     output="generator.body.theta_z",
     drive=TorqueLaw.constant(RATED_ROTOR_TORQUE),
     load=TorqueLaw.generator(rated_drive_torque=RATED_ROTOR_TORQUE, exponent=LOAD_EXPONENT),
-    # steady at the rated speed, loaded from the start (the linear springs' deflections:
-    # the Hertz contacts settle within the first second)
+    # steady at the rated speed, loaded from the start (the static balance with the
+    # bearings' Hertz law)
     speed_reference_rpm=RATED_ROTOR_SPEED_RPM,
     initial_speed_rpm=RATED_ROTOR_SPEED_RPM,
     start_loaded=True,
