@@ -28,7 +28,6 @@ from ...assembly.matrices import Model
 from ...errors import CaseError
 from ...kernel.bearing_terms import DEFECT_KINDS, RINGS, BearingTerms
 from ...model.rolling_bearing import RollingBearing, rolling_bearings_of
-from ..condition.bearing_load import contact_constant
 
 __all__ = [
     "BEARING_EFFECT",
@@ -46,6 +45,9 @@ BEARING_EFFECT = "rolling_bearing_contact"
 def bearing_constants(bearing: RollingBearing, spring: float) -> np.ndarray:
     """The kernel's constants of ``bearing`` replacing a radial spring ``spring`` [N/m]
     (layout :data:`~pygear.kernel.bearing_terms.BEARING_PARAM_LAYOUT`)."""
+    # the Hertz law's constants (SciPy's elliptic integrals) load only when a run has bearings
+    from ..condition.bearing_load import contact_constant
+
     gamma = bearing.gamma
     clearance = bearing.diametral_clearance + 2.0 * sum(f.wear for f in bearing.faults)
     return np.array(
