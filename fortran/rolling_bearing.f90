@@ -157,6 +157,7 @@ contains
       s = sin(cage + two_pi * real(first, dp) / real(z, dp))
       c_step = cos(two_pi / real(z, dp))
       s_step = sin(two_pi / real(z, dp))
+      psi = cage  ! read only with defects, set per element then
       do j = first, last
         if (j > first) then
           c_next = c * c_step - s * s_step
