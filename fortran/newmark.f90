@@ -71,6 +71,11 @@
 !> step's deflection change, per step (and, in a step whose damper engages late, to
 !> that damper's end work).
 !>
+!> Rolling bearings (module rolling_bearing), when a problem has them: each bearing's
+!> lagged load F_b - k_r (x, y) joins the meshes' in the equivalent load, from the same
+!> predictor-plus-increment state, and in the convergence test against the larger of
+!> its elements' force and its spring's; the factor keeps the body's spring k_r.
+!>
 !> Loads: a drive torque on the input member and a load torque against the output
 !> member, each a law of time (constant, ramp, table) or, for the load, of the
 !> output speed switched on at t_s, the first instant the input speed reaches
