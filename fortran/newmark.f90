@@ -73,6 +73,11 @@
 !> step's deflection change, per step (and, in a step whose damper engages late, to
 !> that damper's end work).
 !>
+!> Rolling bearings (module rolling_bearing), when a problem has them: each bearing's
+!> lagged load F_b - k_r (x, y) joins the meshes' in the equivalent load, from the same
+!> predictor-plus-increment state, and in the convergence test against the larger of
+!> its elements' force and its spring's; the factor keeps the body's spring k_r.
+!>
 !> Loads: a drive torque on the input member and a load torque against the output
 !> member, each a law of time (constant, ramp, table) or, for the load, of the
 !> output speed switched on at t_s, the first instant the input speed reaches
@@ -102,6 +107,8 @@ module newmark
   use newmark_dense, only: dense_columns, load_block, mass_block, stiffness_update, &
                            refined_stiffness, refine_solution
   use newmark_gyroscopic, only: add_rotor_load, add_gyroscopic_force, rotor_speed
+  use rolling_bearing, only: bearing_rows, bearing_loads, add_bearing_loads, add_state_bearing_loads, &
+                             bp_spring
   implicit none
   private
 
@@ -194,6 +201,9 @@ contains
       do j = 1, n_mesh
         call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
+      ! rolling bearings (module rolling_bearing): their Hertz law in place of the spring
+      if (problem%bearings%n_bearing > 0) call add_state_bearing_loads(problem%bearings, q, &
+                                                                        -1.0_dp, rhs)
     end if
     if (sparse) then  ! M's factor is the problem's
       call solve_mass(problem%sparse, rhs, info)
@@ -324,7 +334,10 @@ contains
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
-    logical :: damped, refined, rotor, rotor_ok
+    logical :: damped, refined, rotor, rotor_ok, bearings
+    real(dp), allocatable :: bearing_p(:), bearing_pt(:), gb(:, :), gb_trial(:, :), bearing_force(:, :)
+    integer(ik), allocatable :: bearing_loaded(:)
+    real(dp) :: bearing_change, bearing_scale
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
 
     n = problem%n
@@ -367,6 +380,15 @@ contains
     load_on = istate(is_load_on) /= 0
     ! mesh dampers that follow the flanks (module header); without, the path of constant C
     damped = nonlinear .and. separation .and. any(problem%mesh_damping > 0.0_dp)
+    ! rolling bearings join the meshes' equivalent load (not on the dense path: checked)
+    bearings = nonlinear .and. problem%bearings%n_bearing > 0
+    allocate (bearing_p(4 * problem%bearings%n_bearing), bearing_pt(4 * problem%bearings%n_bearing))
+    allocate (gb(2, problem%bearings%n_bearing), gb_trial(2, problem%bearings%n_bearing))
+    allocate (bearing_force(2, problem%bearings%n_bearing), bearing_loaded(problem%bearings%n_bearing))
+    gb = 0.0_dp
+    gb_trial = 0.0_dp
+    bearing_change = 0.0_dp
+    bearing_scale = 0.0_dp
 
     allocate (qt(n), vt(n), r0(n), rhs(n), a_new(n), v_new(n), wc(n), wk(n))
     allocate (delta(n_mesh), delta_t(n_mesh), k_eff(n_mesh), k_step(n_mesh), g(n_mesh), g_new(n_mesh))
@@ -484,6 +506,7 @@ contains
             call add_sparse(problem%mesh, m, -alpha_f * mesh_var(m), r0)
           end do
         end if
+        if (bearings) call add_state_bearing_loads(problem%bearings, q, -alpha_f, r0)
       end if
       if (omega_0 > 0.0_dp .and. .not. load_on) speed_old = member_speed(problem%members, 1, v)
       if (rotor) call rotor_step()
@@ -491,12 +514,14 @@ contains
       ! first evaluation at the Newmark predictor (a = 0: q = qt; evaluate reads no x)
       call evaluate(a_new, .true., drive, load, g)
       if (ierr /= nm_ok) return
+      gb = gb_trial
       if (restart) then
         if (any(abs(k_step - k_used) > problem%rparam(rp_refactor) * problem%mean_stiffness)) then
           call restart_acceleration()
           if (ierr /= nm_ok) return
           call evaluate(a_new, .true., drive, load, g)
           if (ierr /= nm_ok) return
+          gb = gb_trial
         end if
       end if
       refactors = 0
@@ -507,6 +532,7 @@ contains
           a_new = 0.0_dp  ! still the predictor
           call evaluate(a_new, .false., drive, load, g)
           if (ierr /= nm_ok) return
+          gb = gb_trial
         end if
       end if
 
@@ -547,6 +573,7 @@ contains
             end do
           end if
           if (rotor) rhs = rhs + rotor_force
+          if (bearings) call add_bearing_loads(problem%bearings, gb, -(1.0_dp - alpha_f), rhs)
           rhs = scale_k * rhs
           if (sparse) then
             call solve_khat(problem%sparse, rhs, info)
@@ -572,6 +599,16 @@ contains
         change = maxval(abs(g_new - g))
         worst = int(maxloc(abs(g_new - g), 1), ik)
         torque_change = max(abs(drive_new - drive), abs(load_new - load))
+        if (bearings) then  ! a bearing's load against its elements' force or its spring's
+          bearing_change = maxval(abs(gb_trial - gb))
+          bearing_scale = max(maxval(abs(bearing_force)), &
+                              maxval(problem%bearings%param(bp_spring, :) * abs(bearing_p(1::4))), &
+                              maxval(problem%bearings%param(bp_spring, :) * abs(bearing_p(2::4))), &
+                              pico)
+          if (bearing_change > problem%rparam(rp_tolerance) * bearing_scale) &
+            worst = n_mesh + int(maxloc(maxval(abs(gb_trial - gb), 1), 1), ik)
+          gb = gb_trial
+        end if
         g = g_new
         drive = drive_new
         load = load_new
@@ -580,7 +617,7 @@ contains
         if (.not. rotor_ok .and. change <= problem%rparam(rp_tolerance) * force_scale) worst = 0
         if (change <= problem%rparam(rp_tolerance) * force_scale .and. torque_change <= &
             problem%rparam(rp_tolerance) * max(abs(drive), abs(load), tiny(1.0_dp)) .and. &
-            rotor_ok) then
+            rotor_ok .and. bearing_change <= problem%rparam(rp_tolerance) * bearing_scale) then
           converged = .true.
           exit
         end if
@@ -590,6 +627,7 @@ contains
             if (ierr /= nm_ok) return
             call evaluate(a_new, .false., drive, load, g)
             if (ierr /= nm_ok) return
+            gb = gb_trial
             it = 0
           else
             exit
@@ -784,6 +822,16 @@ contains
       end if
       drive_x = law_torque(problem%laws, 1, t_new, speeds(1), load_on)
       load_x = law_torque(problem%laws, 2, t_new, speeds(2), load_on)
+      if (bearings) then  ! rings as the deflections: qt's products plus exact increments
+        if (first) then
+          call bearing_rows(problem%bearings, qt, bearing_pt)
+          bearing_p = bearing_pt
+        else
+          call bearing_rows(problem%bearings, x, bearing_p)
+          bearing_p = bearing_pt + (beta * dt * dt) * bearing_p
+        end if
+        call bearing_loads(problem%bearings, bearing_p, gb_trial, bearing_force, bearing_loaded)
+      end if
       if (.not. nonlinear) then
         g_x = 0.0_dp
         return

@@ -42,6 +42,7 @@ module newmark_problem
                              nm_err_unavailable, band_multiply
   use newmark_dense, only: dense_columns, mean_operator, refined_operators
   use newmark_gyroscopic, only: rotor_terms
+  use rolling_bearing, only: bearing_set
   use newmark_sparse, only: sparse_operators, pattern_fits, factor_operators, free_operators, &
                             symmetric_multiply, symmetric_multiply_pair, so_ok, so_err_definite, &
                             so_err_mass, so_err_unavailable
@@ -84,6 +85,7 @@ module newmark_problem
     real(dp), allocatable :: refined_inverse(:, :)       !< (n, n) refined path: s Khat^-1, transposed [1/kg]
     type(sparse_operators) :: sparse                     !< sparse path: M, C, K0 and the factors
     type(rotor_terms) :: rotor                           !< gyroscopic and unbalance loads (module newmark_gyroscopic)
+    type(bearing_set) :: bearings                        !< rolling bearings (module rolling_bearing), none by default
   end type transient_problem
 
   type(handle_registry), target :: registry  !< the problems Python holds handles of

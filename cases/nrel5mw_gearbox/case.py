@@ -68,7 +68,8 @@ from pygear.model import (
 from pygear.model.dlc_settings import DesignLoadCases
 from pygear.model.rating import Material, Rating, RollingBearingData, iso6336_5_material
 from pygear.model.reduction_settings import Reductions
-from pygear.model.rolling_bearing import RollingBearing
+from pygear.model.rolling_bearing import BearingDefect, RollingBearing
+from pygear.model.sensors import Sensor, StructuralMode
 
 # ----------------------------------------------------------------------------------
 # Gear geometry [P-V]; the SIMPACK model repeats m_n, b, a_w, alpha_n, beta, z and x
@@ -916,5 +917,70 @@ design_load_cases = DesignLoadCases(
         rainflow=("mesh_force", "bearing_force"),
         load_duration=("drive_torque", "load_torque"),
         bins=64,  # ASSUMED: 64 range x 64 mean bins, fine enough for a damage sum
+    ),
+)
+
+# ----------------------------------------------------------------------------------
+# A spalled planet bearing heard by an accelerometer on the ring (scene
+# "planet_bearing_outer_race", docs/bearings.md): the bearings are Hertz contacts with
+# clearance (effect rolling_bearing_contact) and planet 1's IMS-PL-A carries a spall in
+# its outer race, the planet's bore, which turns with the planet through the load zone
+# fixed on the carrier.  Stage 2's rather than stage 1's: its planets spin 3 times as
+# fast relative to the carrier (2.06 Hz against 0.66 Hz), so a record of a few seconds
+# holds several passes of the spall through the load zone.
+# ----------------------------------------------------------------------------------
+STAGE2_RING_MASS = case.gearbox.stage("stage2").ring.mass  # kg, the annulus above
+RING_SENSOR = Sensor(
+    name="ring_sensor",
+    stage="stage2",
+    angle_deg=90.0,  # ASSUMED: at the top
+    direction="radial",
+    window="hann",
+    window_width_deg=180.0,  # ASSUMED: a planet is heard over the half of the ring facing it
+    mesh_gain=1.0 / STAGE2_RING_MASS,  # (m/s^2)/N, ASSUMED: the rigid ring's mass
+    bearing_gain=1.0 / STAGE2_RING_MASS,  # (m/s^2)/N, ASSUMED: the same rigid ring
+    # ASSUMED: one ring-housing mode at 1.5 kHz with 5 % damping, as strong as the flat path
+    structure=(StructuralMode(frequency=1500.0, damping_ratio=0.05, gain=1.0),),
+)
+# ASSUMED spall: 4 mm along the race (6 % of the roller pitch), 10 um deep (a fifth of
+# the rollers' contact deflection at the rated load), at the bore's angle 0
+PLANET_BEARING_SPALL = BearingDefect("outer", width=4e-3, depth=10e-6, planet=1)
+BEARING_SCENE = Transient(
+    duration=6.0,  # s: 12 turns of a planet relative to the carrier
+    time_step=5e-5,  # s, the run-up's
+    sample_rate=2e4,  # Hz, every step
+    integrator="newmark",
+    equivalent_load="predictor",  # as the run-up (benchmarks/bench_bearing.py)
+    input="rotor.body.theta_z",
+    output="generator.body.theta_z",
+    drive=TorqueLaw.constant(RATED_ROTOR_TORQUE),
+    load=TorqueLaw.generator(rated_drive_torque=RATED_ROTOR_TORQUE, exponent=LOAD_EXPONENT),
+    # steady at the rated speed, loaded from the start (the static balance with the
+    # bearings' Hertz law)
+    speed_reference_rpm=RATED_ROTOR_SPEED_RPM,
+    initial_speed_rpm=RATED_ROTOR_SPEED_RPM,
+    start_loaded=True,
+    probes=(
+        Probe("sensor", "ring_sensor"),
+        Probe("speed", "stage2.carrier"),
+        Probe("speed", "stage2.planet1"),  # spin relative to the carrier
+        Probe("displacement", "stage2.planet1.zeta"),
+        Probe("displacement", "stage2.planet1.eta"),
+        Probe("mesh_force", "stage2.ring-planet1"),
+    ),
+    mean_window=1.0,
+)
+case = dataclasses.replace(
+    case,
+    sensors=(RING_SENSOR,),
+    scenes=(
+        *case.scenes,
+        Scene(
+            "planet_bearing_outer_race",
+            analyses=("transient",),
+            effects=("time_varying_mesh_stiffness", "rolling_bearing_contact"),
+            transient=BEARING_SCENE,
+            parameters={"rolling_bearings.IMS-PL-A.defects": (PLANET_BEARING_SPALL,)},
+        ),
     ),
 )

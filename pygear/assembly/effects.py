@@ -50,6 +50,11 @@ def effects_in_force(model: Model, equivalent_load: str | None = None) -> dict[s
             + ("in force" if varying else "not in force (they act through the contact table)")
         ),
         "tooth_separation": "on" if "tooth_separation" in effects else "off",
+        "rolling_bearing_contact": (
+            "on (rolling bearings as Hertz contacts in place of their springs)"
+            if "rolling_bearing_contact" in effects
+            else "off"
+        ),
         "speed_dependent_planet_terms": (
             f"on at {info.get('carrier_speed_rpm', 0.0):g} rpm"
             if model.gyroscopic is not None and "speed_dependent_planet_terms" in effects

@@ -41,11 +41,22 @@ def add_parsers(commands: argparse._SubParsersAction) -> None:
         "--faults",
         required=True,
         metavar="KIND=VALUES",
-        help="crack_depth, stiffness_factor or chipped_fraction = START:STOP:COUNT or a list, "
-        "e.g. crack_depth=0:0.5:6",
+        help="crack_depth, stiffness_factor, chipped_fraction, or a bearing race spall's depth "
+        "[m] outer_race_depth or inner_race_depth = START:STOP:COUNT or a list, "
+        "e.g. crack_depth=0:0.5:6, outer_race_depth=0:20e-6:3",
     )
     dataset.add_argument("--gear", help="faulty gear, e.g. planetary.planet1 (default: the sun)")
     dataset.add_argument("--tooth", type=int, default=0, help="faulty tooth (0-based, default 0)")
+    dataset.add_argument(
+        "--bearing", help="bearing with the race defect (default: the sensor stage's first)"
+    )
+    dataset.add_argument(
+        "--planet", type=int, help="planet whose bearing has it (planet bearings, default 1)"
+    )
+    dataset.add_argument(
+        "--defect-angle", type=float, default=0.0, help="defect's angle on its ring [deg]"
+    )
+    dataset.add_argument("--defect-width", type=float, help="defect's width [m] (default: d / 10)")
     dataset.add_argument("--speeds", required=True, help="carrier speeds [rpm], e.g. 60,120")
     dataset.add_argument("--loads", required=True, help="carrier torques [N m], e.g. 250,500")
     dataset.add_argument("--seeds", type=int, default=1, help="noise seeds per point (default 1)")
@@ -82,6 +93,10 @@ def _dataset(args: argparse.Namespace) -> int:
         scene=args.scene,
         snr_db=args.snr,
         duration=args.duration,
+        bearing=args.bearing,
+        planet=args.planet,
+        defect_angle=args.defect_angle,
+        defect_width=args.defect_width,
     )
     out = args.out or Path("out") / plan.case.name / "dataset"
     result = run_dataset(

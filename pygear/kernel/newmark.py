@@ -31,6 +31,7 @@ from typing import Protocol
 import numpy as np
 
 from . import _kernel
+from .bearing_terms import BearingTerms, bearing_arguments
 from .newmark_rebase import RigidRebase
 from .newmark_rotor import RotorTerms, rotor_arguments
 from .newmark_storage import is_sparse_matrix, kernel_storage
@@ -328,6 +329,7 @@ class BandedNewmark:
         labels: Sequence[str] | None = None,
         linear_solver: str = "auto",
         rotor: RotorTerms | None = None,
+        bearings: BearingTerms | None = None,
     ) -> None:
         mass, damping, stiffness = (
             x if is_sparse_matrix(x) else np.asarray(x, dtype=np.float64)
@@ -341,7 +343,13 @@ class BandedNewmark:
         self.coefficients = scheme_coefficients(integrator, spectral_radius)
         self.meshes = meshes if meshes is not None and meshes.size else None
         nonlinear = self.meshes is not None and (self.meshes.time_varying or self.meshes.separation)
-        self.equivalent_load = equivalent_load if nonlinear else "linear"
+        # rolling bearings (fortran/rolling_bearing.f90) join the meshes' equivalent load
+        self.bearings = bearings if bearings is not None and bearings.size else None
+        if self.bearings is not None and equivalent_load == "linear":
+            equivalent_load = "iterate"
+        self.equivalent_load = (
+            equivalent_load if nonlinear or self.bearings is not None else "linear"
+        )
 
         storage = kernel_storage(
             mass,
@@ -350,6 +358,15 @@ class BandedNewmark:
             self.meshes.deflection if self.meshes is not None else None,
             linear_solver,
         )
+        if self.bearings is not None and storage.linear_solver in ("dense_inverse", "dense_refined"):
+            # the dense operators hold load columns for the meshes only
+            storage = kernel_storage(
+                mass,
+                damping,
+                stiffness,
+                self.meshes.deflection if self.meshes is not None else None,
+                "banded_cholesky",
+            )
         self.order = storage.order
         self.position = np.empty(n, dtype=int)
         self.position[self.order] = np.arange(n)
@@ -409,6 +426,8 @@ class BandedNewmark:
             cycle_sign=table.cycle_sign if table is not None else None,
             teeth=table.teeth if table is not None else None,
         )
+        if self.bearings is not None:  # the cage angle is the rings' angles: keep them whole
+            self.rebase.modes = np.zeros((n, 0))
 
     # --- set-up ------------------------------------------------------------------------------
 
@@ -541,6 +560,19 @@ class BandedNewmark:
                 if ierr:
                     raise ValueError(
                         f"rotor terms refused by the kernel (code {int(ierr)}, entry {int(bad)})"
+                    )
+            if self.bearings is not None:
+                bad, ierr = _kernel.transient_problem_bearings(
+                    handle=int(handle),
+                    n=self.n,
+                    kd=self.bandwidth,
+                    n_mesh=len(self.arguments["mean_stiffness"]),
+                    **bearing_arguments(self.bearings, self.position),
+                )
+                if ierr:
+                    raise ValueError(
+                        f"rolling bearings refused by the kernel (entry {int(bad)}: a bearing's "
+                        "constants, a defect, or the dense solver)"
                     )
         return self._problem_handle
 

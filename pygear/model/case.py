@@ -63,13 +63,16 @@ EFFECTS = (
     "time_varying_mesh_stiffness",
     "tooth_separation",
     "helical_coupling",
+    "rolling_bearing_contact",
 )
 """Optional effects a scene may call for (docs/model.md §7).  ``helical_coupling`` asks
 that a helical stage keep its out-of-plane DOFs (the default when the DOF set is left
 open); naming it refuses a DOF set that would drop them.  ``gyroscopic_all_members``
 writes every planetary stage in its carrier's frame with Cooley & Parker's (2012)
 gyroscopic and centripetal terms on every member (``speed_dependent_planet_terms``:
-the planets only)."""
+the planets only).  ``rolling_bearing_contact`` puts the case's rolling bearings into
+a transient run as Hertz contacts with clearance, varying compliance and defects in
+place of their linear springs (docs/bearings.md)."""
 
 
 @dataclass(frozen=True)
@@ -479,6 +482,9 @@ def get_parameter(case: Case, path: str) -> object:
     if parts[0] == "sensors":
         target: object = _sensor(case, parts[1] if len(parts) > 2 else "", path)
         parts = parts[1:]
+    elif parts[0] == "rolling_bearings":
+        target = _rolling_bearing(case, parts[1] if len(parts) > 2 else "", path)
+        parts = parts[1:]
     else:
         target = _resolve_root(case, parts[0], path)
     for part in parts if target is case else parts[1:]:
@@ -503,6 +509,12 @@ def replace_parameter(case: Case, path: str, value: object) -> Case:
             _replace_path(s, parts[2:], value) if s.name == parts[1] else s for s in case.sensors
         )
         return dataclasses.replace(case, sensors=sensors)
+    if parts[0] == "rolling_bearings":
+        bearings = tuple(
+            _replace_path(b, parts[2:], value) if b.name == parts[1] else b
+            for b in case.rolling_bearings
+        )
+        return dataclasses.replace(case, rolling_bearings=bearings)
     stages = tuple(
         _replace_path(s, parts[1:], value) if s.name == parts[0] else s for s in case.gearbox.stages
     )
@@ -540,6 +552,17 @@ def _sensor(case: Case, name: str, path: str) -> Sensor:
     raise CaseError(
         f"parameter {path!r} must read sensors.<sensor>.<field> with a sensor of the case "
         f"(sensors: {known})"
+    )
+
+
+def _rolling_bearing(case: Case, name: str, path: str) -> RollingBearing:
+    for bearing in case.rolling_bearings:
+        if bearing.name == name:
+            return bearing
+    known = ", ".join(b.name for b in case.rolling_bearings) or "none"
+    raise CaseError(
+        f"parameter {path!r} must read rolling_bearings.<bearing>.<field> with a rolling "
+        f"bearing of the case (rolling bearings: {known})"
     )
 
 

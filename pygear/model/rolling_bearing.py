@@ -136,6 +136,12 @@ class RollingBearing:
     turning_ring : str or None
         The ring that turns with that body (:data:`RING_TURNING`); default ``"outer"``
         for a planet bearing, ``"inner"`` otherwise.
+    defects : tuple of BearingDefect
+        Localized defects the bearing carries in a transient run with the
+        ``rolling_bearing_contact`` effect (race spalls; the kernel takes their
+        rectangular depth).
+    faults : tuple of DistributedFault
+        Distributed faults (race waviness, wear) it carries in such a run.
     """
 
     name: str
@@ -153,6 +159,8 @@ class RollingBearing:
     poisson_ratio: float = 0.3
     location: str = ""
     turning_ring: str | None = None
+    defects: tuple[BearingDefect, ...] = ()
+    faults: tuple[DistributedFault, ...] = ()
 
     def __post_init__(self) -> None:
         self.validate(f"rolling_bearings[{self.name!r}]")
@@ -230,6 +238,14 @@ class RollingBearing:
             raise CaseError(f"{path}.location must be a string (got {self.location!r})")
         if self.turning_ring is not None:
             _require_choice(f"{path}.turning_ring", self.turning_ring, RING_TURNING)
+        for n, defect in enumerate(self.defects or ()):
+            if not isinstance(defect, BearingDefect):
+                raise CaseError(f"{path}.defects[{n}] must be a BearingDefect (got {defect!r})")
+            defect.validate(f"{path}.defects[{n}]", self)
+        for n, fault in enumerate(self.faults or ()):
+            if not isinstance(fault, DistributedFault):
+                raise CaseError(f"{path}.faults[{n}] must be a DistributedFault (got {fault!r})")
+            fault.validate(f"{path}.faults[{n}]")
         _warn_if_implausible(f"{path}.pitch_diameter", "pitch_diameter", self.pitch_diameter)
         _warn_if_implausible(
             f"{path}.element_diameter / pitch_diameter",
@@ -266,6 +282,9 @@ class BearingDefect:
         The element carrying an ``element`` defect (0 .. Z - 1).
     profile : str
         Entry/exit profile, :data:`DEFECT_PROFILES`.
+    planet : int or None
+        For a planet bearing in a transient run: the planet (1-based) whose bearing
+        carries the defect; None, every planet's.
     """
 
     location: str
@@ -274,6 +293,7 @@ class BearingDefect:
     angle_deg: float = 0.0
     element: int = 0
     profile: str = "rectangular"
+    planet: int | None = None
 
     def __post_init__(self) -> None:
         self.validate("defect")
@@ -289,6 +309,10 @@ class BearingDefect:
             raise CaseError(f"{path}.angle_deg must be a finite angle (got {self.angle_deg!r})")
         if not is_whole_number(self.element) or self.element < 0:
             raise CaseError(f"{path}.element must be a whole number >= 0 (got {self.element!r})")
+        if self.planet is not None and (not is_whole_number(self.planet) or self.planet < 1):
+            raise CaseError(
+                f"{path}.planet must be a whole number >= 1 or None (got {self.planet!r})"
+            )
         if bearing is None:
             return
         spacing = math.pi * bearing.pitch_diameter / bearing.elements

@@ -19,7 +19,7 @@ def data_card(plan, combined: xr.Dataset, file_name: str, indicators: tuple[str,
         f"made by pygear {__version__}.",
         "",
         "## Grid",
-        f"- fault: `{plan.kind}` on tooth {plan.tooth} of `{plan.gear}`, severities "
+        f"- fault: `{plan.kind}` on {_place(plan)}, severities "
         f"{', '.join(f'{s:g}' for s in plan.severities)} ({_SEVERITY[plan.kind]})",
         f"- carrier speeds [rpm]: {', '.join(f'{s:g}' for s in plan.speeds)}; the run starts "
         "turning at that speed and the load law balances the drive there",
@@ -36,7 +36,7 @@ def data_card(plan, combined: xr.Dataset, file_name: str, indicators: tuple[str,
         f"- `gear_average`(record, angle_step): the synchronous average of `{plan.gear}`",
         f"- indicators (record): {', '.join(indicators)}, and `na4_trend`, `nb4_trend` "
         "(normalised by the records of the same operating point and seed up to the severity)",
-        "- labels (coordinates on record): fault_kind, fault_gear, fault_tooth, severity, "
+        f"- labels (coordinates on record): fault_kind, {_place_labels(plan)}, severity, "
         "speed_rpm, load_nm, seed, snr_db; `record_hash` names each record's own file",
         "",
         "## Use",
@@ -60,4 +60,25 @@ _SEVERITY = {
     "crack_depth": "root crack at 45 deg, q sin(45 deg) over the base-circle half thickness",
     "stiffness_factor": "loss of the tooth's pair stiffness",
     "chipped_fraction": "tip chipped off to this share of the tooth height",
+    "outer_race_depth": "depth [m] of a spall on the outer race, bearings as Hertz contacts",
+    "inner_race_depth": "depth [m] of a spall on the inner race, bearings as Hertz contacts",
 }
+
+
+def _place(plan) -> str:
+    """Where the fault sits, in words."""
+    fault = getattr(plan, "bearing", None)
+    if fault is None:
+        return f"tooth {plan.tooth} of `{plan.gear}`"
+    planet = f" of planet {fault.planet}" if fault.planet else ""
+    return (
+        f"the {fault.race} race of bearing `{fault.bearing}`{planet}, at {fault.angle_deg:g} deg, "
+        f"{fault.width:g} m wide (averaged gear `{plan.gear}`)"
+    )
+
+
+def _place_labels(plan) -> str:
+    """The labels that say where the fault sits."""
+    if getattr(plan, "bearing", None) is None:
+        return "fault_gear, fault_tooth"
+    return "fault_bearing, fault_planet, defect_angle_deg, defect_width"

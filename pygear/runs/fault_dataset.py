@@ -17,7 +17,11 @@ Fault kinds (``--faults KIND=VALUES``):
 * ``crack_depth``: a root crack at 45 degrees (Tian 2004) whose depth q gives
   q sin(45) = severity x h_b, h_b the tooth's half thickness at its base circle (0: none);
 * ``stiffness_factor``: the tooth's pair stiffness times (1 - severity) (1: missing);
-* ``chipped_fraction``: the tip chipped off down to severity x the tooth height.
+* ``chipped_fraction``: the tip chipped off down to severity x the tooth height;
+* ``outer_race_depth``, ``inner_race_depth``: a spall of that depth [m] on a race of one
+  rolling bearing (``--bearing``, ``--planet``, ``--defect-angle``, ``--defect-width``;
+  :mod:`.bearing_faults`), the run with the bearings as Hertz contacts.  The gear
+  average and its indicators are still those of ``--gear``.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ from ..model.components import ToothDefect
 from ..model.gear_geometry import base_half_thickness
 from ..model.tooth_faults import ChippedTooth, RootCrack
 from ..model.transient_settings import Probe, TorqueLaw
+from .bearing_faults import BEARING_FAULT_KINDS, BearingFault, bearing_fault, with_bearing_defect
 from .dataset_card import data_card
 from .dataset_checks import (
     check_distinct,
@@ -63,7 +68,7 @@ from .progress import ProgressBar
 
 __all__ = ["FAULT_KINDS", "DatasetError", "DatasetPlan", "plan_dataset", "run_dataset"]
 
-FAULT_KINDS = ("crack_depth", "stiffness_factor", "chipped_fraction")
+FAULT_KINDS = ("crack_depth", "stiffness_factor", "chipped_fraction", *BEARING_FAULT_KINDS)
 """Severity axes a dataset may sweep (module docstring)."""
 
 CRACK_ANGLE_DEG = 45.0
@@ -91,6 +96,8 @@ class DatasetPlan:
     duration: float | None
     footprint: tuple = ()
     """What :func:`.dataset_checks.check_footprint` estimates memory and disk from."""
+    bearing: BearingFault | None = None
+    """The bearing defect's place and width for a bearing fault kind."""
 
 
 @dataclass(frozen=True)
@@ -150,6 +157,10 @@ def plan_dataset(
     duration: float | None = None,
     workers: int = 2,
     out: str | os.PathLike | None = None,
+    bearing: str | None = None,
+    planet: int | None = None,
+    defect_angle: float = 0.0,
+    defect_width: float | None = None,
 ) -> DatasetPlan:
     """Check a dataset request before any work; raise :class:`CaseError` naming the option.
 
@@ -167,7 +178,7 @@ def plan_dataset(
     check_distinct(f"--faults {kind}", severities)
     if any(not 0.0 <= s < 1.0 for s in severities) and kind == "crack_depth":
         raise CaseError("--faults crack_depth: severities lie in [0, 1) (depth over h_b)")
-    if any(not 0.0 <= s <= 1.0 for s in severities):
+    if kind not in BEARING_FAULT_KINDS and any(not 0.0 <= s <= 1.0 for s in severities):
         raise CaseError(f"--faults {kind}: severities lie in [0, 1]")
     speed_values = parse_values(speeds, "--speeds")
     load_values = parse_values(loads, "--loads")
@@ -186,7 +197,13 @@ def plan_dataset(
     chosen, sensor = _sensor_scene(case, scene)
     stage = next(s for s in case.sensors if s.name == sensor).stage
     gear = gear or f"{stage}.sun"
-    check_gear(case, stage, gear, kind)
+    fault = None
+    if kind in BEARING_FAULT_KINDS:  # the averaged gear only needs teeth
+        fault = bearing_fault(
+            case, kind, severities, stage=stage, bearing=bearing, planet=planet,
+            angle_deg=defect_angle, width=defect_width,
+        )  # fmt: skip
+    check_gear(case, stage, gear, "stiffness_factor" if fault else kind)
     check_record_length(duration or chosen.transient.duration, speed_values, duration is not None)
     plan = DatasetPlan(
         case,
@@ -201,6 +218,7 @@ def plan_dataset(
         sensor,
         float(snr_db),
         duration,
+        bearing=fault,
     )
     plan = dataclasses.replace(plan, footprint=_footprint(plan))  # tries the grid's corners
     check_footprint(**dict(plan.footprint), workers=workers, out=out)
@@ -209,7 +227,8 @@ def plan_dataset(
         for load in plan.loads:
             _record_case(plan, {"severity": severities[0], "speed_rpm": speed, "load_nm": load})
     where = f"--gear {plan.gear!r} --tooth {plan.tooth}"
-    for severity in severities[1:]:  # the severities' faults alone (they change no more)
+    # the severities' tooth faults alone (they change no more); a bearing's are checked
+    for severity in severities[1:] if fault is None else ():
         defect = _defect(plan, case, severity)
         validate_defects(case.gearbox, (defect,) if defect else (), f"{where} --faults {kind}")
     return plan
@@ -265,7 +284,7 @@ def _grid(plan: DatasetPlan) -> list[dict]:
 
 
 def _defect(plan: DatasetPlan, case: Case, severity: float) -> ToothDefect | None:
-    if severity == 0.0:
+    if severity == 0.0 or plan.bearing is not None:
         return None
     if plan.kind == "stiffness_factor":
         return ToothDefect(plan.gear, plan.tooth, factor=1.0 - severity)
@@ -298,6 +317,9 @@ def _record_case(plan: DatasetPlan, labels: dict) -> tuple[Case, Scene]:
         for s in case.sensors
     )
     case = dataclasses.replace(case, sensors=sensors)
+    scene = plan.scene
+    if plan.bearing is not None:
+        case, scene = with_bearing_defect(case, scene, plan.bearing, labels["severity"])
     transient = plan.scene.transient
     if transient.load is None or transient.load.kind != "generator":
         raise CaseError(
@@ -322,7 +344,7 @@ def _record_case(plan: DatasetPlan, labels: dict) -> tuple[Case, Scene]:
     defect = _defect(plan, case, labels["severity"])
     defects = tuple(d for d in plan.scene.defects if (d.gear, d.tooth) != (plan.gear, plan.tooth))
     scene = dataclasses.replace(
-        plan.scene,
+        scene,
         transient=transient,
         defects=defects + ((defect,) if defect else ()),
         parameters=(),
@@ -378,13 +400,12 @@ def _tasks(plan: DatasetPlan, out: Path) -> tuple[list[RecordTask], list[str], i
         ]
         found += len(plan.seeds) - len(missing)
         if missing:
-            labels = {
-                **labels,
-                "fault_kind": plan.kind,
-                "fault_gear": plan.gear,
-                "fault_tooth": plan.tooth,
-                "snr_db": plan.snr_db,
-            }
+            where = (
+                {"fault_gear": plan.gear, "fault_tooth": plan.tooth}
+                if plan.bearing is None
+                else plan.bearing.labels()
+            )
+            labels = {**labels, "fault_kind": plan.kind, **where, "snr_db": plan.snr_db}
             tasks.append(
                 RecordTask(
                     case,

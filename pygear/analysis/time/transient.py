@@ -38,6 +38,7 @@ from ...model.transient_settings import Transient
 from ...rigid_modes import rigid_body_mask
 from ..condition.sensor_signal import compile_scene_probes
 from ..signals.probes import RPM_PER_RAD_S, state_probes
+from .bearing_element import BEARING_EFFECT, bearing_terms, static_displacement
 from .run_dataset import equilibrium_table
 from .run_dataset import run_dataset as _dataset
 from .transient_checks import (
@@ -275,6 +276,8 @@ def _new_problem(
             backlash=backlash,
             damping=np.array([mesh.damping for mesh in model.meshes]),
         )
+    # rolling bearings in place of their springs, only when the scene asks for them
+    bearings = bearing_terms(case, model) if BEARING_EFFECT in effects else None
     probes, sensors = compile_scene_probes(case, model, settings.probes, f"{path}.probes")
     if settings.full_state:
         probes += state_probes(model)
@@ -303,6 +306,7 @@ def _new_problem(
         speed_reference=omega_0,
         deflection_limit=settings.deflection_limit,
         labels=model.dof_labels,
+        bearings=bearings,
     )
     problem = TransientProblem(
         case,
@@ -437,7 +441,8 @@ def loaded_displacement(problem: TransientProblem) -> np.ndarray:
     the drivetrain; the rest deflects it: K0 q = f - M Phi Phi^T f with Phi^T M q = 0,
     solved as (K0 + M Phi Phi^T M) q = f - M Phi Phi^T f.  The equation of motion then
     gives the rigid-body acceleration at t = 0 and no elastic one (at mean mesh
-    stiffness), so nothing swings.
+    stiffness), so nothing swings.  With rolling bearings in the run the balance holds
+    their Hertz law (:func:`.bearing_element.static_displacement`).
     """
     model, solver = problem.model, problem.solver
     state = solver.start(v0=problem.initial_velocity)
@@ -449,7 +454,11 @@ def loaded_displacement(problem: TransientProblem) -> np.ndarray:
     rigid = vectors[:, rigid_body_mask(values)]
     relieved = force - mass @ rigid @ (rigid.T @ force)
     regularised = stiffness + mass @ rigid @ rigid.T @ mass
-    return np.linalg.solve(regularised, relieved)
+    linear = np.linalg.solve(regularised, relieved)
+    if solver.bearings is None:
+        return linear
+    # rolling bearings: the same balance with their Hertz law in place of the springs
+    return static_displacement(solver.bearings, regularised, relieved, linear)
 
 
 def checkpoint_identity(problem: TransientProblem) -> str:
