@@ -294,7 +294,7 @@ def test_a_record_of_other_meshes_is_refused_before_the_model_runs(nrel, tmp_pat
     assert len(error.splitlines()) == 1 and "'stage9.sun-planet1'" in error
 
 
-def test_a_batch_load_spectrum_a_year_is_rated_over_the_years(nrel, streamed_run):
+def test_a_batch_load_spectrum_a_year_is_rated_over_the_years(nrel, streamed_run, capsys):
     # the batch's yearly spectrum (pygear.runs.dlc_spectrum) of one load case standing
     # for h hours a year holds the run's counts times w = 3600 h / duration: its damage
     # over the life is the run's times w T / (8766 h) (T the span the run's counts
@@ -320,6 +320,14 @@ def test_a_batch_load_spectrum_a_year_is_rated_over_the_years(nrel, streamed_run
     for gear, values in a.damage.items():
         assert b.damage[gear]["pitting"] == pytest.approx(values["pitting"] * share,
                                                           rel=1e-9, abs=1e-300)
+    # the command reads the written spectrum (labels as pygear's indexes)
+    written = path.parent / "load_spectrum.nc"
+    spectrum.to_netcdf(written)
+    assert main(["rate", "nrel5mw_gearbox", "--dynamic-factor", "iso", "--duty-cycle",
+                 str(written), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["gears"]["stage1.sun"]["damage"] == pytest.approx(
+        b.damage["stage1.sun"]["pitting"], rel=1e-12)
     # its load duration distribution: the year's hours, idle ones included
     duty = duty_from_dataset(spectrum.drop_vars(
         [v for v in spectrum.data_vars if v.startswith("rainflow_")]), "ldd.nc").duty_cycle
