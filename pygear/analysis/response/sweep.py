@@ -196,6 +196,12 @@ def contact_loss_response(
     if not (isinstance(branch_harmonics, int) and branch_harmonics >= 1):
         raise CaseError(f"--harmonics must be >= 1 for contact loss (got {branch_harmonics!r})")
     system = response_system(case, scene, pin_errors=pin_errors, torque=torque)
+    if system.groups > 1:
+        raise CaseError(
+            f"--contact-loss: case {case.name!r} has meshes at {system.groups} incommensurate "
+            "mesh frequencies; contact loss is balanced for one frequency group only "
+            "(a planetary stage or gear pair)"
+        )
     law = case_law(case, system, scene)  # refuses a mesh without backlash before any work
     linear = sweep_system(system, speeds, harmonics=harmonics, tolerance=tolerance,
                           stability=stability, progress=progress)  # fmt: skip
