@@ -37,6 +37,7 @@ from ...errors import CaseError
 from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS, system_multipliers
 from .hill import AUTO_HARMONICS, HillSolution, fourier_coefficients, harmonic_balance, mesh_signals
+from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
 from .system import ResponseSystem, response_system
 
 __all__ = [
@@ -359,8 +360,6 @@ def _quasi_speed(
     segments: int,
 ) -> dict:
     """One speed of a system of several frequency groups (:mod:`.quasi_sweep`)."""
-    from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
-
     solution = quasi_balance(system, speed, harmonics, tolerance=tolerance,
                              max_harmonics=max_harmonics, cover=cover)  # fmt: skip
     record = quasi_record(system, solution)
