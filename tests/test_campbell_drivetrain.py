@@ -325,3 +325,51 @@ def test_planets_only_terms_read_the_central_members_inertially():
         both.gyroscopic[np.ix_(planet_rows, planet_rows)],
     )
     assert dataclasses.is_dataclass(planets)
+
+
+def test_unbalance_response_of_a_drivetrain_carries_the_planets_terms(gearbox):
+    """``with_frame_terms`` gives the unbalance response the planets' terms: the disc's
+    response equals a dense solve of (K - W_c^2 K_Omega - W^2 M + i W (C + W G_shafts +
+    W G_planets)) X = m e W^2 (1, -i), with the gearbox's own terms per unit speed of
+    the first carrier, which the rotor drives, placed at its block.  Tolerance: two LU
+    solves of one system, 1e-8; the terms move the disc's response by 100 times that."""
+    from pygear import Disc
+    from pygear.analysis.response.rotor import Unbalance, unbalance_response
+    from pygear.assembly.speed_terms import speed_terms, with_frame_terms
+
+    drivetrain = dict(
+        shafts=(light_stub("slow", 7850.0), light_stub("fast", 7850.0)),
+        gearbox=gearbox,
+        mounts=(
+            GearboxMount("stage1.carrier", at="slow.end"),
+            GearboxMount("parallel.output_gear", at="fast.start"),
+        ),
+        rotor=Rotor(mass=1.0, polar_inertia=0.01, diametral_inertia=0.01, at="slow.start"),
+        generator=Generator(polar_inertia=0.01, mass=1.0, diametral_inertia=0.01, at="fast.end"),
+        discs=(Disc("disc", "slow", 0.1, mass=5.0, polar_inertia=0.02, diametral_inertia=0.01),),
+    )
+    case = quiet_case(name="unbalanced", gearbox=gearbox, drivetrain=drivetrain)
+    model = assemble_drivetrain(case, dof_set="spatial")
+    spinning = with_frame_terms(model, drivetrain_frame_terms(model, case))
+    speed = 600.0  # rpm of the rotor and the first carrier
+    response = unbalance_response(spinning, case.drivetrain, [Unbalance("disc", 1e-3)], [speed])
+    plain = unbalance_response(model, case.drivetrain, [Unbalance("disc", 1e-3)], [speed])
+
+    omega = speed * math.pi / 30
+    carrier = omega
+    terms = speed_terms(model.gearbox, case, "stage1.carrier.theta_z", "planets")
+    block = slice(model.gearbox_offset, model.size)
+    stiffness = model.stiffness.toarray()
+    first = (model.damping + omega * model.gyroscopic).toarray()
+    stiffness[block, block] -= carrier**2 * terms.centripetal
+    first[block, block] += carrier * terms.gyroscopic
+    force = np.zeros(model.size, complex)
+    node = model.end_nodes["slow.end"]
+    force[model.index(f"{node}.x")] = 1e-3 * omega**2
+    force[model.index(f"{node}.y")] = -1j * 1e-3 * omega**2
+    dynamic = stiffness - omega**2 * model.mass.toarray() + 1j * omega * first
+    expected = np.linalg.solve(dynamic, force)
+    found = response.x_amplitude.sel(location="disc").values[0]
+    assert found == pytest.approx(abs(expected[model.index(f"{node}.x")]), rel=1e-8)
+    without = plain.x_amplitude.sel(location="disc").values[0]
+    assert abs(without / found - 1) > 1e-6  # the terms are seen at this speed

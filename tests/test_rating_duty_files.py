@@ -153,7 +153,9 @@ def test_streamed_reductions_give_the_whole_records_damage(nrel, streamed_run):
     whole = duty_from_dataset(run, "run.nc")  # counts the mesh_force record again
     reductions = duty_from_dataset(run.drop_vars("mesh_force"), "reductions.nc")
     assert reductions.notes["source"].startswith("reductions.nc: rainflow matrices")
-    assert reductions.record_s == pytest.approx(whole.record_s, rel=1e-12)
+    # the same mean speed: of the record, and the load duration's revolutions over its
+    # time (every sample one interval; the damage takes contacts per second of record)
+    assert reductions.speed_rpm == pytest.approx(whole.speed_rpm, rel=1e-9)
     a = rate_gearbox(case, rating, matrices=whole.matrices, record_s=whole.record_s,
                      record_speed_rpm=whole.speed_rpm)
     b = rate_gearbox(case, rating, matrices=reductions.matrices, record_s=reductions.record_s,
@@ -290,3 +292,46 @@ def test_a_record_of_other_meshes_is_refused_before_the_model_runs(nrel, tmp_pat
     assert main(["rate", "nrel5mw_gearbox", "--duty-cycle", str(path)]) == 2
     error = capsys.readouterr().err.strip()
     assert len(error.splitlines()) == 1 and "'stage9.sun-planet1'" in error
+
+
+def test_a_batch_load_spectrum_a_year_is_rated_over_the_years(nrel, streamed_run, capsys):
+    # the batch's yearly spectrum (pygear.runs.dlc_spectrum) of one load case standing
+    # for h hours a year holds the run's counts times w = 3600 h / duration: its damage
+    # over the life is the run's times w T / (8766 h) (T the span the run's counts
+    # cover; the year's other hours idle), by hand
+    from pygear.model.dlc_settings import HOURS_PER_YEAR, DesignLoadCases, LoadCase
+    from pygear.runs.dlc_spectrum import load_spectrum
+
+    case, rating = nrel
+    run, path = streamed_run
+    table = DesignLoadCases(scene="runup", wind_speeds=(11.4,), seeds=(1,),
+                            duration=run.attrs["duration"])
+    load = LoadCase(name="w11.4_s1", wind_speed=11.4, seed=1, hours_per_year=4000.0)
+    with xr.open_dataset(path, decode_times=False) as raw:
+        spectrum = load_spectrum([(raw.load(), load)], table)
+    yearly = duty_from_dataset(spectrum, "load_spectrum.nc")
+    assert yearly.record_s == pytest.approx(HOURS_PER_YEAR * 3600.0, rel=1e-15)
+    single = duty_from_dataset(run.drop_vars("mesh_force"), "run.nc")
+    a = rate_gearbox(case, rating, matrices=single.matrices, record_s=single.record_s,
+                     record_speed_rpm=single.speed_rpm)
+    b = rate_gearbox(case, rating, matrices=yearly.matrices, record_s=yearly.record_s,
+                     record_speed_rpm=yearly.speed_rpm)
+    share = 3600.0 * 4000.0 / table.duration * single.record_s / (HOURS_PER_YEAR * 3600.0)
+    for gear, values in a.damage.items():
+        assert b.damage[gear]["pitting"] == pytest.approx(values["pitting"] * share,
+                                                          rel=1e-9, abs=1e-300)
+    # the command reads the written spectrum (labels as pygear's indexes)
+    written = path.parent / "load_spectrum.nc"
+    spectrum.to_netcdf(written)
+    assert main(["rate", "nrel5mw_gearbox", "--dynamic-factor", "iso", "--duty-cycle",
+                 str(written), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["gears"]["stage1.sun"]["damage"] == pytest.approx(
+        b.damage["stage1.sun"]["pitting"], rel=1e-12)
+    # its load duration distribution: the year's hours, idle ones included
+    duty = duty_from_dataset(spectrum.drop_vars(
+        [v for v in spectrum.data_vars if v.startswith("rainflow_")]), "ldd.nc").duty_cycle
+    assert duty.period_h == HOURS_PER_YEAR
+    assert sum(duty.hours) == pytest.approx(4000.0 * run.sizes["time"]
+                                            / run.attrs["sample_rate"] / table.duration,
+                                            rel=1e-9)

@@ -51,6 +51,7 @@ __all__ = [
     "FrameTerms",
     "apply_speed_terms",
     "drivetrain_frame_terms",
+    "with_frame_terms",
     "reference_label",
     "speed_terms",
 ]
@@ -389,3 +390,26 @@ def drivetrain_frame_terms(model: Any, case: Any) -> FrameTerms | None:
         carrier_ratios={k: v * carrier_over_rotor for k, v in terms.frame_ratios.items()},
         terms=terms,
     )
+
+
+def with_frame_terms(model: Any, frame_terms: FrameTerms | None) -> Any:
+    """The drivetrain model with its planets' frame terms folded in: ``gyroscopic``
+    holds G + G_frame (per unit rotor speed) and :meth:`at_speed` subtracts
+    Omega^2 K_Omega, so every analysis that reads a model at a speed (the unbalance
+    response, an FRF) gets them.  ``model`` itself when ``frame_terms`` is None."""
+    if frame_terms is None:
+        return model
+    from .drivetrain import DrivetrainModel
+
+    @dataclass
+    class _Spinning(DrivetrainModel):
+        centripetal: Any = None
+
+        def at_speed(self, speed_rpm: float) -> tuple[Any, Any]:
+            stiffness, damping = super().at_speed(speed_rpm)
+            omega = speed_rpm * math.pi / 30.0
+            return (stiffness - omega**2 * self.centripetal).tocsc(), damping
+
+    fields = {f.name: getattr(model, f.name) for f in dataclasses.fields(model)}
+    fields["gyroscopic"] = (model.gyroscopic + frame_terms.gyroscopic).tocsc()
+    return _Spinning(**fields, centripetal=frame_terms.centripetal)

@@ -113,6 +113,7 @@ def _frf(args: argparse.Namespace) -> int:
         unbalance_response,
     )
     from ..assembly.drivetrain import assemble_drivetrain
+    from ..assembly.speed_terms import drivetrain_frame_terms, with_frame_terms
     from ..io import save_figure, write_netcdf
     from ..model.case import load_case
     from ..runs.json_output import json_text
@@ -121,6 +122,7 @@ def _frf(args: argparse.Namespace) -> int:
     if case.drivetrain is None:
         raise CaseError(f"case {case.name!r} has no shafts: frf needs a rotor or drivetrain case")
     model = assemble_drivetrain(case, dof_set="spatial")
+    model = with_frame_terms(model, drivetrain_frame_terms(model, case))  # planets' terms
     out = args.out or Path("out") / case.name
     if args.frf is not None:
         result = frequency_response(

@@ -164,6 +164,9 @@ def _print_table(response, summary: dict) -> None:
         f"{attrs['input']} {speeds[0]:g} to {speeds[-1]:g} rpm ({speeds.size} speeds), "
         f"{attrs['wall_s']:.2f} s"
     )
+    if int(attrs.get("frequency_groups", 1)) > 1:
+        print(f"multi-frequency balance: {attrs['frequency_groups']} frequency groups of "
+              "meshes at incommensurate mesh frequencies; stability per group")  # fmt: skip
     print(f"{'mesh':<28} {'max K_v':>8} {'at rpm':>10} {'max DTE rms [m]':>16}  separation")
     for i, mesh in enumerate(response.mesh.values):
         kv = response.dynamic_factor.values[:, i]

@@ -201,11 +201,16 @@ class DutyCycle:
         Hours in each bin [h] (>= 0, at least one > 0).
     speed_rpm : tuple of float or None
         Input speed of each bin [rpm]; None runs every bin at the rating's speed.
+    period_h : float or None
+        Hours the distribution stands for, when more than its bins' sum (a yearly
+        spectrum of the operating hours stands for a year, idle hours included); None:
+        the sum of ``hours``.
     """
 
     torque: tuple[float, ...]
     hours: tuple[float, ...]
     speed_rpm: tuple[float, ...] | None = None
+    period_h: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("torque", "hours", "speed_rpm"):
@@ -230,6 +235,10 @@ class DutyCycle:
                 raise CaseError(f"{path}.hours[{k}] must be finite and >= 0 (got {value})")
         if sum(self.hours) <= 0.0:
             raise CaseError(f"{path}.hours must add up to more than 0 h")
+        if self.period_h is not None and not (
+                math.isfinite(self.period_h) and self.period_h >= sum(self.hours) * (1 - 1e-12)):
+            raise CaseError(f"{path}.period_h must be finite and at least the bins' "
+                            f"{sum(self.hours):g} h (got {self.period_h})")
         if self.speed_rpm is not None:
             if len(self.speed_rpm) != len(self.torque):
                 raise CaseError(f"{path}.speed_rpm must have one value per torque bin")

@@ -184,11 +184,12 @@ WORKER_MODULES = (
     "pygear.analysis.signals.analyze",
     "pygear.runs.sweep_points",
     "pygear.runs.batch",
+    "pygear.runs.dlc",
 )
 """What the fork server of the local workers imports before it forks them: a sweep
-point's or batch scene's code, xarray's Dask arrays and NetCDF.  Imported once per
-command instead of once per worker on its first task (1-1.5 s each on the study
-case's run-up points)."""
+point's, batch scene's or design load case's code, xarray's Dask arrays and NetCDF.
+Imported once per command instead of once per worker on its first task (1-1.5 s each
+on the study case's run-up points)."""
 
 
 def _helper_pids() -> dict[str, int | None]:

@@ -170,6 +170,29 @@ def _journal(out: Path, line: str) -> None:
         journal.write(line + "\n")
 
 
+_TABLES: dict[tuple[str, int], tuple] = {}
+"""The case and table each case file gave this process, by path and modification time:
+a worker runs many load cases of one case, and executing the case file (building the
+gearbox's geometry) each time would repeat work that does not change."""
+
+
+def _cached_table(case_dir: str) -> tuple:
+    path = Path(case_dir)
+    file = path / "case.py" if path.is_dir() else path
+    key = (str(file.resolve()) if file.exists() else str(path), _mtime(file))
+    if key not in _TABLES:
+        _TABLES.clear()  # one case at a time: keep none of another's
+        _TABLES[key] = load_design_load_cases(case_dir)
+    return _TABLES[key]
+
+
+def _mtime(path: Path) -> int:
+    try:
+        return path.stat().st_mtime_ns
+    except OSError:
+        return -1
+
+
 def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
     """Run one load case of the case's table into ``out_dir/<name>.nc`` (a Dask task;
     never raises).  A load case whose file is complete already is ``reused``."""
@@ -181,7 +204,7 @@ def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
     out = Path(out_dir)
     row: dict[str, Any] = {"load_case": name, "file": str(out / f"{name}.nc"), "error": ""}
     try:
-        case, table, directory = load_design_load_cases(case_dir)
+        case, table, directory = _cached_table(case_dir)
         load = next(c for c in table.load_cases() if c.name == name)
         row.update(wind_speed=load.wind_speed, seed=load.seed, hours_per_year=load.hours_per_year)
         if case_file_complete(out / f"{name}.nc"):

@@ -136,6 +136,7 @@ def rating_markdown(ds: xr.Dataset, rating: Rating, case_name: str, notes: dict)
         lines.append(f"| {key} [{ds[key].attrs['units']}] | " + " | ".join(cells)
                      + f" | {ds[key].attrs['clause']} |")
     lines += ["", "## Factors per gear and mesh", "",
+              "Every factor here by the standard's method (ISO), from the loads above.", "",
               "| factor | " + " | ".join(f"{m} / {g}" for m in ds.mesh.values
                                         for g in ds.gear_name.sel(mesh=m).values) + " |",
               "|---" * (2 * len(ds.mesh) + 1) + "|"]

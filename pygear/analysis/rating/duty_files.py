@@ -5,8 +5,10 @@
 1. a pygear run's ``mesh_force`` record (``mesh``, ``time``): the rainflow matrices of
    the whole record (:func:`.run_damage.cycle_matrix`);
 2. a streamed run's reductions ``rainflow_mesh_force`` with its ``_range_edges`` and
-   ``_mean_edges`` (or a batch's combined spectrum in the same variables): the
-   matrices as written, not counted again;
+   ``_mean_edges`` (or a batch's combined spectrum in the same variables,
+   :mod:`pygear.runs.dlc_spectrum`, counted per year: attribute ``period`` "one year",
+   so the record is the year, idle hours included): the matrices as written, not
+   counted again;
 3. a load duration distribution ``load_duration_time`` / ``load_duration_revolutions``
    / ``load_duration_edges`` of the ``drive_torque``: a :class:`DutyCycle` (each
    level at its upper edge, the speed from its revolutions);
@@ -73,19 +75,49 @@ def load_duration_from_series(time, torque, speed_rpm, bins: int = DEFAULT_BINS
                      tuple(np.maximum(speed[keep], 1e-9)))
 
 
+def _yearly(ds) -> float | None:
+    """Hours of the year a batch's load spectrum counts per (``period`` "one year"),
+    else None."""
+    if ds.attrs.get("period") == "one year":
+        return float(ds.attrs.get("hours_per_year", 8766.0))
+    return None
+
+
+def _ldd_seconds(ds) -> float | None:
+    """Seconds the drive torque's load duration counts (every sample one interval)."""
+    names = _names(ds, "torque")
+    if "load_duration_time" in ds and "drive_torque" in names:
+        return float(np.atleast_2d(ds["load_duration_time"].values)[
+            names.index("drive_torque")].sum())
+    return None
+
+
 def _record_seconds(ds) -> float:
+    """The time a file's matrices count: a batch spectrum's year; else the span the
+    load duration counts, the same samples' (every sample one interval); else the
+    run's duration."""
+    if _yearly(ds) is not None:
+        return _yearly(ds) * 3600.0
+    if _ldd_seconds(ds):
+        return _ldd_seconds(ds)
     if "duration" in ds.attrs:
         return float(ds.attrs["duration"])
-    if "load_duration_time" in ds:
-        return float(ds.load_duration_time.sel(torque="drive_torque").sum())
     raise CaseError("the duty-cycle file's rainflow matrices need the record's length: "
                     "a 'duration' attribute [s] or load_duration_time of drive_torque")
 
 
+def _names(ds, dim: str) -> list[str]:
+    """Labels along ``dim``: its ``<dim>_label`` variable as pygear writes it, or the
+    index :func:`pygear.io.open_dataset` makes of it; [] without either."""
+    if f"{dim}_label" in ds.variables:
+        return [str(v) for v in ds[f"{dim}_label"].values]
+    if dim in ds.coords:
+        return [str(v) for v in ds[dim].values]
+    return []
+
+
 def _labels(ds) -> list[str]:
-    if "mesh_label" in ds.coords or "mesh_label" in ds:
-        return [str(v) for v in ds["mesh_label"].values]
-    return [str(v) for v in ds["mesh"].values]
+    return _names(ds, "mesh")
 
 
 def duty_from_dataset(ds, source: str, bins: int | None = None) -> DutyInput:
@@ -120,8 +152,8 @@ def duty_from_dataset(ds, source: str, bins: int | None = None) -> DutyInput:
             "record_s": record, "bins": counts.shape[-1],
             "rainflow_cycles": float(counts.sum())})
     if "load_duration_time" in ds:
-        which = {str(v): i for i, v in enumerate(ds["torque"].values)} if "torque" in ds.coords \
-            else {"drive_torque": 0}
+        names = _names(ds, "torque")
+        which = {v: i for i, v in enumerate(names)} if names else {"drive_torque": 0}
         if "drive_torque" not in which:
             raise CaseError(f"--duty-cycle {source!r}: its load duration distribution has no "
                             "drive_torque level set (the input torque the rating needs)")
@@ -135,7 +167,7 @@ def duty_from_dataset(ds, source: str, bins: int | None = None) -> DutyInput:
             raise CaseError(f"--duty-cycle {source!r}: its load duration distribution is empty")
         speed = 60.0 * revolutions[keep] / seconds[keep]
         duty = DutyCycle(tuple(upper[keep]), tuple(seconds[keep] / 3600.0),
-                         tuple(np.maximum(speed, 1e-9)))
+                         tuple(np.maximum(speed, 1e-9)), period_h=_yearly(ds))
         return DutyInput(duty_cycle=duty, notes={
             "source": f"{source}: load duration distribution of the input torque as written",
             "record_s": float(seconds.sum()), "levels": int(keep.sum())})
@@ -159,16 +191,18 @@ def _mean_speed(ds) -> float | None:
     from the drive torque's load duration (revolutions over time), else None."""
     member = str(ds.attrs.get("input", "")).removesuffix(".theta_z")
     if "speed" in ds and "time" in ds["speed"].dims and "member" in ds["speed"].dims:
-        labels = [str(v) for v in ds["member"].values]
+        labels = _names(ds, "member")
         if member in labels:
             return float(np.abs(ds["speed"].transpose("member", "time").values[
                 labels.index(member)]).mean())
-    if "load_duration_revolutions" in ds and "torque" in ds.coords:
-        names = [str(v) for v in ds["torque"].values]
+    names = _names(ds, "torque")
+    if "load_duration_revolutions" in ds and names:
         if "drive_torque" in names:
             k = names.index("drive_torque")
             seconds = float(np.atleast_2d(ds["load_duration_time"].values)[k].sum())
             turns = float(np.atleast_2d(ds["load_duration_revolutions"].values)[k].sum())
+            if _yearly(ds) is not None:  # a year's revolutions over the whole year
+                seconds = _yearly(ds) * 3600.0
             if seconds > 0.0:
                 return 60.0 * turns / seconds
     return None
@@ -180,7 +214,7 @@ def _torque_series(ds, source: str):
                 "rotor torque and speed")
     if "drive_torque" in ds and "time" in ds["drive_torque"].dims and "speed" in ds:
         member = str(ds.attrs.get("input", "")).removesuffix(".theta_z")
-        labels = [str(v) for v in ds["member"].values] if "member" in ds.coords else []
+        labels = _names(ds, "member")
         if member not in labels:
             raise CaseError(f"--duty-cycle {source!r}: the run records drive_torque but not "
                             f"the speed of its input member {member!r}")

@@ -319,7 +319,7 @@ def rate_gearbox(case, rating: Rating, *, dynamic_factors: Mapping[str, float] |
                 _add_damage(result.damage, entry.gears[side], entry.name, pitting, bending,
                             "rated load (K_A included) over the service life")
     else:
-        result.spectrum_hours = sum(duty.hours)
+        result.spectrum_hours = duty.period_h or sum(duty.hours)
         scale = life / result.spectrum_hours
         speeds = duty.speed_rpm or (rating.rated_speed_rpm,) * len(duty.torque)
         totals: dict[tuple[str, str, int], list[float]] = {}
@@ -484,6 +484,8 @@ def _bearings(case, rating: Rating, meshes: list[MeshEntry], duty) -> dict:
             speeds_used.append(n)
         p_m = iso281.mean_load(loads, revolutions, bearing.kind)
         hours = sum(h for *_, h in bins)
+        if duty is not None and duty.period_h:  # idle hours: no load, no revolutions
+            hours = duty.period_h
         speed = sum(revolutions) / (60.0 * hours)
         l10 = iso281.basic_life(bearing.C, p_m, bearing.kind)
         d_m = bearing.pitch_diameter * 1e3

@@ -5,6 +5,8 @@
 - :mod:`.hill`: harmonic balance (Hill's method), its sparse block matrix and the mesh
   signals rebuilt from a solution;
 - :mod:`.floquet`: Floquet multipliers from the monodromy matrix;
+- :mod:`.quasi` and :mod:`.quasi_sweep`: the multi-frequency balance of gearboxes whose
+  stages mesh at incommensurate frequencies, on a lattice of combination frequencies;
 - :mod:`.sweep`: the response over a speed range as an ``xarray.Dataset``;
 - :mod:`.operating`: the dynamic factor per mesh at one speed, for a rating;
 - :mod:`.nonlinear` and :mod:`.continuation`: contact loss with backlash, continued in

@@ -95,6 +95,12 @@ def harmonics_ladder(
     speeds = np.asarray(speeds, dtype=np.float64).reshape(-1)
     if speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds > 0)):
         raise CaseError("speeds must be finite and > 0 rpm")
+    if system.groups > 1:
+        raise CaseError(
+            f"the harmonic ladder balances one mesh frequency; {system.attrs.get('case', '')!r} "
+            f"has {system.groups} frequency groups (pygear response reports each speed's "
+            "residual instead)"
+        )
     counts = tuple(int(c) for c in counts)
     if not counts or counts[0] < 1 or any(b <= a for a, b in zip(counts, counts[1:])):
         raise CaseError(f"harmonic counts must increase from >= 1 (got {counts!r})")

@@ -89,8 +89,9 @@ def quasi_balance(
         H for every axis, with M = min(H, :data:`DEFAULT_MIXED_ORDER`); or ``auto``:
         from :func:`start_orders` and M = 2, solve, and double every axis order and M
         whose part of the residual (its points of the next layer) exceeds half the
-        tolerance, until the residual meets the tolerance or nothing can grow (axes
-        up to ``max_harmonics``, M up to :data:`MAX_MIXED_ORDER`).
+        tolerance, until the residual meets the tolerance, nothing can grow (axes up
+        to ``max_harmonics``, M up to :data:`MAX_MIXED_ORDER`), or a part at its limit
+        misses the tolerance by itself.
     tolerance : float
         Residual the automatic choice reaches.
     max_harmonics : int
@@ -111,6 +112,11 @@ def quasi_balance(
         if solution.residual <= tolerance:
             return solution
         parts = solution.residual_parts
+        stuck = [orders[g] >= max_harmonics for g in range(omegas.size)] + [
+            mixed >= MAX_MIXED_ORDER
+        ]
+        if any(p > tolerance and s for p, s in zip(parts, stuck)):
+            return solution  # an order at its limit misses the tolerance on its own
         grown = False
         for g in range(omegas.size):
             if parts[g] > 0.5 * tolerance and orders[g] < max_harmonics:

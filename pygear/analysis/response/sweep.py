@@ -37,6 +37,7 @@ from ...errors import CaseError
 from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS, system_multipliers
 from .hill import AUTO_HARMONICS, HillSolution, fourier_coefficients, harmonic_balance, mesh_signals
+from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
 from .system import ResponseSystem, response_system
 
 __all__ = [
@@ -196,6 +197,12 @@ def contact_loss_response(
     if not (isinstance(branch_harmonics, int) and branch_harmonics >= 1):
         raise CaseError(f"--harmonics must be >= 1 for contact loss (got {branch_harmonics!r})")
     system = response_system(case, scene, pin_errors=pin_errors, torque=torque)
+    if system.groups > 1:
+        raise CaseError(
+            f"--contact-loss: case {case.name!r} has meshes at {system.groups} incommensurate "
+            "mesh frequencies; contact loss is balanced for one frequency group only "
+            "(a planetary stage or gear pair)"
+        )
     law = case_law(case, system, scene)  # refuses a mesh without backlash before any work
     linear = sweep_system(system, speeds, harmonics=harmonics, tolerance=tolerance,
                           stability=stability, progress=progress)  # fmt: skip
@@ -353,8 +360,6 @@ def _quasi_speed(
     segments: int,
 ) -> dict:
     """One speed of a system of several frequency groups (:mod:`.quasi_sweep`)."""
-    from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
-
     solution = quasi_balance(system, speed, harmonics, tolerance=tolerance,
                              max_harmonics=max_harmonics, cover=cover)  # fmt: skip
     record = quasi_record(system, solution)
