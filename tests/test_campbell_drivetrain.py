@@ -80,7 +80,6 @@ def quiet_case(**fields) -> Case:
 # ------------------------------------------------------- rigid shafts: the gearbox alone
 
 
-@pytest.mark.slow
 def test_drivetrain_with_rigid_light_shafts_is_the_gearbox_campbell(gearbox):
     """The rotor sits on the fast side (the output gear's stub) and the generator on the
     carrier's: the rotor turns at -96.35 times the carrier, so the planets' terms must
@@ -257,8 +256,8 @@ def test_disc_on_the_fast_shaft_splits_with_that_shafts_speed(gearbox):
     ("case", "speeds"),
     [
         ("yang2016_planetary", "0:3000:4"),
-        pytest.param("nrel5mw_gearbox", "0:600:3", marks=pytest.mark.slow),
-        pytest.param("nrel5mw_drivetrain", "0:12:2", marks=pytest.mark.slow),
+        ("nrel5mw_gearbox", "0:600:3"),
+        ("nrel5mw_drivetrain", "0:12:2"),
         ("friswell_rotor", "0:4000:5"),
     ],
 )
