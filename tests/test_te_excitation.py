@@ -222,3 +222,26 @@ def test_harmonic_balance_equals_the_transient():
     plain_deflection = mesh_signals(plain, solve_hill(plain, system.omega(rpm), 64))[0][:, m]
     plain_first = abs(np.fft.fft(plain_deflection)[order] / plain_deflection.size)
     assert abs(plain_first - first) > 0.1 * first
+
+
+def test_several_frequency_groups_run_the_first_order_form():
+    """The NREL 5 MW gearbox on the law has three frequency groups, whose quasi-periodic
+    balance takes no periodic force: its system carries no excitation and its meshes the
+    TE-equivalent stiffness (the contact table built with ``excitation=False``), and
+    the excitation force refuses a table with an excitation there, naming the meshes."""
+    from pygear import CaseError
+    from pygear.analysis.response.mesh_excitation import mesh_excitation
+    from pygear.model.case import load_case
+
+    case = load_case("nrel5mw_loaded_contact")
+    scene = case.scene("runup")
+    system = response_system(case, scene, samples=2**10)
+    assert system.groups == 3 and system.excitation is None and system.harmonic_force is None
+    model = scene_model(case.for_scene(scene), scene)
+    excited = build_contact_table(case, model, scene, sun_driven=False)
+    first_order = build_contact_table(case, model, scene, sun_driven=False, excitation=False)
+    assert excited.excitation is not None and first_order.excitation is None
+    theta = np.zeros((4, excited.size))
+    with pytest.raises(CaseError, match="stage1.*several frequency groups"):
+        mesh_excitation(excited, theta, np.ones((4, excited.size)), np.ones(excited.size),
+                        np.ones((excited.size, 2)), groups=3)  # fmt: skip

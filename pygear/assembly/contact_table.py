@@ -277,6 +277,7 @@ def build_contact_table(
     *,
     direction: int = 1,
     sun_driven: bool = True,
+    excitation: bool = True,
 ) -> ContactTable:
     """The tooth-contact table of an assembled model's meshes.
 
@@ -295,6 +296,10 @@ def build_contact_table(
         True when the carrier drives and the sun is the output (the seed's case);
         it decides where contact starts and so the ring-to-sun phase, and the
         direction in which a curve computed from gear geometry is read.
+    excitation : bool
+        False: ``loaded_contact`` meshes run their TE-equivalent stiffness without the
+        displacement excitation (the first-order form, for a balance that takes no
+        excitation force).
 
     Each mesh's law, mean stiffness, contact ratio and curve are those of
     :func:`pygear.assembly.mesh_laws.mesh_law` (resolved once per case).
@@ -347,7 +352,8 @@ def build_contact_table(
     # teeth' own curves: per-tooth deviations on loaded-contact meshes, damaged teeth
     # (a damaged tooth's fault curve replaces its deviation curve)
     tooth_curves = deviation_curves(case, meshes, sun_driven)
-    curves, excitation = _pack_curves(rows, laws, sun_driven, {key[0] for key in tooth_curves})
+    first_order = {key[0] for key in tooth_curves} if excitation else set(range(len(rows)))
+    curves, excitations = _pack_curves(rows, laws, sun_driven, first_order)
     factor_start, factor = _pack_factors(case, rows, defects)
     ratios = np.array([r["ratio"] for r in rows], dtype=np.float64)
     table = ContactTable(
@@ -369,7 +375,7 @@ def build_contact_table(
         factor=factor,
         max_pairs=int(math.ceil(ratios.max())) + 1 if len(rows) else 1,
         defects=defects,
-        **excitation,
+        **excitations,
     )
     table.check()
     if any(defect.fault is not None for defect in defects):

@@ -14,6 +14,12 @@ fundamental's phase tau.  Its mean adds to the static load f and its harmonics
 f_k = (1/N) sum_tau f_e(tau) e^{-2 pi i k tau} are the ``harmonic_force`` of
 :class:`~.system.ResponseSystem` (f + sum_k (f_k e^{i k omega t} + c.c.)).  The mesh
 force the balance reports is then s_m k_m (delta_m - s_m e_m) (:func:`.hill.mesh_signals`).
+
+The quasi-periodic balance of meshes at unrelated fundamentals (:mod:`.quasi`) takes no
+periodic force: :func:`.system.response_system` builds such a system's table with the
+``loaded_contact`` meshes on their first-order TE-equivalent stiffness instead
+(``build_contact_table(..., excitation=False)``), and :func:`mesh_excitation` refuses an
+excitation there.
 """
 
 from __future__ import annotations

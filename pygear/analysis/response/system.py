@@ -442,6 +442,9 @@ def response_system(
     stages_of = [m.stage for m in model.meshes]
     group, orders, fundamentals, snapped = frequency_groups(frequency, stages_of)
     fundamental = float(fundamentals[0])
+    if fundamentals.size > 1 and table.excitation is not None:  # see .mesh_excitation
+        table = build_contact_table(case, model, scene, direction=1, excitation=False,
+                                    sun_driven=".sun." not in input_label)  # fmt: skip
     mean = np.array([m.mean_stiffness for m in model.meshes])
     tau = np.arange(samples) / samples
     # theta_rel of each mesh along the snapped kinematics: n_m cycles per period
