@@ -245,3 +245,16 @@ def test_several_frequency_groups_run_the_first_order_form():
     with pytest.raises(CaseError, match="stage1.*several frequency groups"):
         mesh_excitation(excited, theta, np.ones((4, excited.size)), np.ones(excited.size),
                         np.ones((excited.size, 2)), groups=3)  # fmt: skip
+
+
+def test_contact_loss_balance_refuses_an_excitation():
+    """The contact-loss balance tests contact at c > 0 and would report k c where the
+    mesh force is k (c - e): it refuses a system with an excitation before any work,
+    naming the excited meshes (the ring meshes' unloaded TE is not zero either)."""
+    from pygear import CaseError
+    from pygear.analysis.response.sweep import contact_loss_response
+
+    case = _case(backlash=0.1e-3)
+    scene = _scene(case, 120.0, 0.1)
+    with pytest.raises(CaseError, match=r"meshes sun-planet1, .*ring-planet1.*contact-loss"):
+        contact_loss_response(case, np.array([120.0]), scene=scene)

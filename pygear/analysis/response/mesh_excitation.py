@@ -19,7 +19,9 @@ The quasi-periodic balance of meshes at unrelated fundamentals (:mod:`.quasi`) t
 periodic force: :func:`.system.response_system` builds such a system's table with the
 ``loaded_contact`` meshes on their first-order TE-equivalent stiffness instead
 (``build_contact_table(..., excitation=False)``), and :func:`mesh_excitation` refuses an
-excitation there.
+excitation there.  The contact-loss balance (:mod:`.nonlinear`) tests contact at
+s_m delta_m > 0 and reports k g(s_m delta_m), not the compression less the excitation:
+:func:`refuse_excitation` keeps it from a system with one.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import numpy as np
 from ...assembly.contact_table import ContactTable
 from ...errors import CaseError
 
-__all__ = ["MAX_FORCE_HARMONICS", "MeshExcitation", "mesh_excitation"]
+__all__ = ["MAX_FORCE_HARMONICS", "MeshExcitation", "mesh_excitation", "refuse_excitation"]
 
 MAX_FORCE_HARMONICS = 512
 """Harmonics of the excitation force kept (the balance uses as many as it solves for)."""
@@ -111,4 +113,20 @@ def mesh_excitation(
         excitation=excitation,
         mean_force=force.mean(axis=0),
         harmonic_force=np.ascontiguousarray(spectrum[1 : count + 1]),
+    )
+
+
+def refuse_excitation(system, analysis: str) -> None:
+    """Raise :class:`CaseError` naming the meshes when ``system`` (a
+    :class:`~.system.ResponseSystem`) carries a displacement excitation, which
+    ``analysis`` does not take."""
+    if getattr(system, "excitation", None) is None:
+        return
+    excited = [name for name, e in zip(system.names, system.excitation.T) if np.any(e)]
+    if not excited:
+        return
+    raise CaseError(
+        f"meshes {', '.join(excited)}: {analysis} does not take the displacement excitation "
+        "of law loaded_contact yet (run the linear response, or the transient with the "
+        "tooth_separation effect)"
     )

@@ -37,6 +37,7 @@ from ...errors import CaseError
 from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS, system_multipliers
 from .hill import AUTO_HARMONICS, HillSolution, fourier_coefficients, harmonic_balance, mesh_signals
+from .mesh_excitation import refuse_excitation
 from .system import ResponseSystem, response_system
 
 __all__ = [
@@ -196,6 +197,7 @@ def contact_loss_response(
     if not (isinstance(branch_harmonics, int) and branch_harmonics >= 1):
         raise CaseError(f"--harmonics must be >= 1 for contact loss (got {branch_harmonics!r})")
     system = response_system(case, scene, pin_errors=pin_errors, torque=torque)
+    refuse_excitation(system, "the contact-loss balance")
     law = case_law(case, system, scene)  # refuses a mesh without backlash before any work
     linear = sweep_system(system, speeds, harmonics=harmonics, tolerance=tolerance,
                           stability=stability, progress=progress)  # fmt: skip
