@@ -33,11 +33,7 @@ import numpy as np
 from ...assembly.contact_table import ContactTable
 from ...errors import CaseError
 
-__all__ = ["MAX_FORCE_HARMONICS", "MeshExcitation", "mesh_excitation", "refuse_excitation"]
-
-MAX_FORCE_HARMONICS = 512
-"""Harmonics of the excitation force kept (the balance uses as many as it solves for)."""
-
+__all__ = ["MeshExcitation", "mesh_excitation", "refuse_excitation"]
 
 @dataclass(frozen=True)
 class MeshExcitation:
@@ -50,7 +46,7 @@ class MeshExcitation:
     mean_force : ndarray, shape (n,)
         Mean of f_e over the period in modal coordinates.
     harmonic_force : ndarray, complex, shape (K, n)
-        f_k, k = 1..K, of f_e in modal coordinates.
+        f_k, k = 1..K, of f_e in modal coordinates, K = samples / 2 - 1.
     """
 
     excitation: np.ndarray
@@ -108,7 +104,7 @@ def mesh_excitation(
     force = (np.asarray(stiffness) * excitation) @ mesh_rows  # (samples, n)
     samples = force.shape[0]
     spectrum = np.fft.rfft(force, axis=0) / samples
-    count = min(samples // 2 - 1, MAX_FORCE_HARMONICS)
+    count = samples // 2 - 1  # every harmonic below Nyquist: the balance takes its own H
     return MeshExcitation(
         excitation=excitation,
         mean_force=force.mean(axis=0),
