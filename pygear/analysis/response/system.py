@@ -453,7 +453,9 @@ def response_system(
         stiffness = np.array(table.series(theta)["stiffness"], dtype=np.float64)
     else:
         stiffness = np.broadcast_to(mean, (samples, mean.size)).copy()
-    te = mesh_excitation(table, theta, stiffness, sign, rows, groups=fundamentals.size)
+    te = None  # the excitation is part of the varying mesh, as in the kernel
+    if time_varying:
+        te = mesh_excitation(table, theta, stiffness, sign, rows, groups=fundamentals.size)
     several = len(case.gearbox.stages) > 1
     names = [f"{m.stage}.{m.name}" if several else m.name for m in model.meshes]
     return ResponseSystem(
