@@ -33,6 +33,14 @@
 !> never stiffer than either alone.  Per-tooth factors multiply the result as for any
 !> pair.
 !>
+!> A mesh may carry a displacement excitation e(s) (docs/contact.md, the loaded contact
+!> as a mesh law): its unloaded transmission error along the drive flank's compression,
+!> one period over a mesh cycle, n samples at s = q / (n - 1), q = 0 .. n - 1 (first and
+!> last the same), interpolated linearly at frac(s).  The mesh force is then
+!> k_m (c - e(s)), c the drive flank's compression (module newmark).  Samples are packed
+!> in excitation; excitation_size(m) = 0 marks a mesh without one, and a table without
+!> any excitation is never looked at in the time loop.
+!>
 !> Tables that Python uses are checked once and kept here, addressed by a handle
 !> (module handles): create_contact_table, contact_table_at, free_contact_table.
 module contact_table
@@ -42,7 +50,7 @@ module contact_table
   private
 
   public :: tooth_contact_table
-  public :: evaluate_contact, evaluate_contact_series, check_contact_table, pair_stiffness
+  public :: evaluate_contact, evaluate_contact_series, evaluate_excitation, has_excitation, check_contact_table, pair_stiffness
   public :: create_contact_table, free_contact_table, contact_table_at
   public :: law_parabola, law_tabulated, law_helical
   public :: ct_ok, ct_err_argument, ct_err_option, ct_err_size, ct_err_state, ct_err_handle, &
@@ -85,6 +93,9 @@ module contact_table
     integer(ik), allocatable :: tooth_curve_block(:, :) !< (2, n_mesh) per-tooth curve offsets; -1 none [-]
     integer(ik), allocatable :: tooth_curve_start(:) !< offset of a tooth's pair curve in curve [-]
     integer(ik), allocatable :: tooth_curve_size(:)  !< samples of a tooth's pair curve, 0 law [-]
+    integer(ik), allocatable :: excitation_start(:)  !< offset of the mesh's e(s) in excitation [-]
+    integer(ik), allocatable :: excitation_size(:)   !< samples of e(s) over a cycle, 0 none [-]
+    real(dp), allocatable :: excitation(:)           !< packed e(s) samples along the compression [m]
   end type tooth_contact_table
 
   type(handle_registry), target :: registry  !< the tables Python holds handles of
@@ -166,6 +177,43 @@ contains
       n_pairs(m) = k
     end do
   end subroutine evaluate_contact
+
+  !> True when a mesh of the table carries a displacement excitation.
+  pure logical function has_excitation(table)
+    type(tooth_contact_table), intent(in) :: table  !< a checked table
+
+    has_excitation = .false.
+    if (allocated(table%excitation_size)) has_excitation = any(table%excitation_size > 0)
+  end function has_excitation
+
+  !> The displacement excitation e_m(s) of every mesh at one state (0 for a mesh
+  !> without one), along the drive flank's compression.  No allocation.
+  pure subroutine evaluate_excitation(table, theta, excitation, ierr)
+    type(tooth_contact_table), intent(in) :: table        !< a checked table
+    real(dp), intent(in) :: theta(table%n_mesh)           !< gear 1 rotation relative to the carrier [rad]
+    real(dp), intent(out) :: excitation(table%n_mesh)     !< e_m at the state [m]
+    integer(ik), intent(out) :: ierr                      !< error code (0 = ok)
+    integer(ik) :: m, n, q, c0
+    real(dp) :: s, u, w
+
+    ierr = ct_ok
+    excitation = 0.0_dp
+    do m = 1, table%n_mesh
+      n = table%excitation_size(m)
+      if (n == 0) cycle
+      s = real(table%cycle_sign(m), dp) * real(table%teeth(1, m), dp) * theta(m) / two_pi &
+          + table%phase(m)
+      if (.not. (abs(s) < max_cycles)) then
+        ierr = ct_err_state
+        return
+      end if
+      u = (s - floor(s)) * real(n - 1, dp)
+      q = min(max(int(u), 0), n - 2)
+      w = u - real(q, dp)
+      c0 = table%excitation_start(m) + q + 1
+      excitation(m) = (1.0_dp - w) * table%excitation(c0) + w * table%excitation(c0 + 1)
+    end do
+  end subroutine evaluate_excitation
 
   !> The pair of teeth i (gear 1) and j (gear 2) at position p when either carries its
   !> own pair curve; k_pair holds the law's value on entry.
@@ -351,6 +399,8 @@ contains
       if (ierr /= ct_ok) return
       call check_tooth_curves(table, m, n_curve, ierr)
       if (ierr /= ct_ok) return
+      call check_excitation(table, m, ierr)
+      if (ierr /= ct_ok) return
       do g = 1, 2
         f0 = table%factor_start(g, m)
         if (f0 < -1) ierr = ct_err_argument
@@ -401,6 +451,26 @@ contains
     end do
   end subroutine check_tooth_curves
 
+  !> The excitation of mesh m: none, or at least two finite samples inside the array
+  !> whose first and last agree (one period).
+  pure subroutine check_excitation(table, m, ierr)
+    type(tooth_contact_table), intent(in) :: table  !< the table to check
+    integer(ik), intent(in) :: m                    !< mesh [-]
+    integer(ik), intent(out) :: ierr                !< error code (0 = ok)
+    integer(ik) :: c0, c1
+
+    ierr = ct_ok
+    if (table%excitation_size(m) == 0) return
+    c0 = table%excitation_start(m) + 1
+    c1 = table%excitation_start(m) + table%excitation_size(m)
+    if (table%excitation_size(m) < 2 .or. c0 < 1 .or. c1 > size(table%excitation)) then
+      ierr = ct_err_size
+      return
+    end if
+    if (.not. all(abs(table%excitation(c0:c1)) <= huge(1.0_dp))) ierr = ct_err_argument
+    if (table%excitation(c0) /= table%excitation(c1)) ierr = ct_err_argument
+  end subroutine check_excitation
+
   !> Every array of the table is allocated with the size its n_mesh gives.
   pure logical function consistent_sizes(table)
     type(tooth_contact_table), intent(in) :: table  !< the table to inspect
@@ -416,7 +486,9 @@ contains
                allocated(table%curve_start) .and. allocated(table%curve_size) .and. &
                allocated(table%curve) .and. allocated(table%factor_start) .and. &
                allocated(table%factor) .and. allocated(table%tooth_curve_block) .and. &
-               allocated(table%tooth_curve_start) .and. allocated(table%tooth_curve_size))) return
+               allocated(table%tooth_curve_start) .and. allocated(table%tooth_curve_size) .and. &
+               allocated(table%excitation_start) .and. allocated(table%excitation_size) .and. &
+               allocated(table%excitation))) return
     if (any(shape(table%teeth) /= [2, n]) .or. any(shape(table%tooth_offset) /= [2, n]) .or. &
         any(shape(table%factor_start) /= [2, n]) .or. &
         any(shape(table%tooth_curve_block) /= [2, n])) return
@@ -424,7 +496,9 @@ contains
     if (size(table%cycle_sign) /= n .or. size(table%mean_stiffness) /= n .or. &
         size(table%contact_ratio) /= n .or. size(table%end_to_peak) /= n .or. &
         size(table%phase) /= n .or. size(table%law) /= n .or. size(table%curve_start) /= n .or. &
-        size(table%curve_size) /= n) return
+        size(table%curve_size) /= n .or. size(table%excitation_start) /= n .or. &
+        size(table%excitation_size) /= n) return
+    if (any(table%excitation_size < 0)) return
     consistent_sizes = .true.
   end function consistent_sizes
 

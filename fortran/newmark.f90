@@ -53,6 +53,10 @@
 !> iteration therefore stays off for that step: it engages one step late, and never
 !> acts across an open gap.  (The predictor mode, one evaluation, takes the damper's
 !> state from the predicted flank as it does the spring's.)
+!> A mesh whose table carries a displacement excitation e_m(s) (module contact_table)
+!> has the force k_m (delta_m - s_m e_m): its offset o_m gains s_m e_m, and with tooth
+!> separation the flank law reads delta_m - s_m e_m (drive contact while
+!> s_m delta_m > e_m).
 !> The table is evaluated once per step at the predicted angles (the mesh cycle is
 !> the slow variable; a second call for the coast flanks when a mesh has a finite
 !> backlash); deflections and the flank in contact follow the iterates.
@@ -97,7 +101,8 @@
 !> Errors are returned as codes with the offending DOF, mesh or step; nothing stops.
 module newmark
   use kinds, only: dp, ik
-  use contact_table, only: tooth_contact_table, evaluate_contact, ct_ok
+  use contact_table, only: tooth_contact_table, evaluate_contact, evaluate_excitation, &
+                           has_excitation, ct_ok
   use flank_contact, only: flank_force_law, flank_compression, flank_coast, flank_free
   use newmark_support  ! codes, layouts, band and sparse helpers, torque laws
   use newmark_problem, only: transient_problem, problem_multiply, problem_restoring, matrix_mass
@@ -248,12 +253,13 @@ contains
       logical, intent(out) :: apart(:)  !< the mesh's flanks are apart (free flight) [-]
       integer(ik), intent(out) :: code  !< error code
       real(dp) :: theta(problem%n_mesh), pos(problem%table%max_pairs, problem%n_mesh)
-      real(dp) :: k_drive(problem%n_mesh), k_coast(problem%n_mesh)
+      real(dp) :: k_drive(problem%n_mesh), k_coast(problem%n_mesh), shift(problem%n_mesh)
       integer(ik) :: pairs(problem%n_mesh), loaded(problem%n_mesh), m, flank
       integer(ik) :: tooth(2, problem%table%max_pairs, problem%n_mesh)
       type(tooth_contact_table) :: coast
       code = nm_ok
       o = 0.0_dp
+      shift = 0.0_dp
       apart = .false.
       if (problem%iparam(ip_varying) /= 0) then
         do m = 1, n_mesh
@@ -268,6 +274,10 @@ contains
           call evaluate_contact(coast, theta, k_coast, pairs, loaded, pos, tooth, code)
           istate(is_contact) = istate(is_contact) + 1
         end if
+        if (code == ct_ok .and. has_excitation(problem%table)) then  ! e_m along delta_m
+          call evaluate_excitation(problem%table, theta, shift, code)
+          shift = real(problem%contact_sign, dp) * shift
+        end if
         if (code /= ct_ok) then
           code = nm_err_contact
           return
@@ -279,11 +289,12 @@ contains
       if (problem%iparam(ip_separation) /= 0) then
         k_drive = k
         do m = 1, n_mesh
-          call flank_force_law(problem%contact_sign(m), d(m), problem%backlash(m), k_drive(m), &
-                               k_coast(m), k(m), o(m), flank)
+          call flank_force_law(problem%contact_sign(m), d(m) - shift(m), problem%backlash(m), &
+                               k_drive(m), k_coast(m), k(m), o(m), flank)
           apart(m) = flank == flank_free
         end do
       end if
+      o = o + shift
     end subroutine mesh_stiffness
   end subroutine newmark_start
 
@@ -322,7 +333,7 @@ contains
     real(dp), allocatable :: delta(:), delta_t(:), k_eff(:), k_step(:), g(:), g_new(:), compression(:)
     real(dp), allocatable :: theta(:), position(:, :), mass_factor(:, :), k_coast(:), offset(:)
     real(dp), allocatable :: fused(:), a_base(:), load_old(:), x_transposed(:, :)
-    real(dp), allocatable :: rate(:), rate_t(:), c_off(:)
+    real(dp), allocatable :: rate(:), rate_t(:), c_off(:), excite(:)
     real(dp), allocatable :: refine_operator(:, :), refine_inverse(:, :), refine_work(:)
     real(dp), allocatable :: rotor_fixed(:), rotor_force(:), rotor_last(:)
     integer(ik), allocatable :: pairs(:), loaded(:), tooth(:, :, :), flank(:), flips(:)
@@ -334,7 +345,7 @@ contains
     integer(ik) :: info, n, kd, n_mesh, n_probe
     integer(ik) :: loads, masses, columns
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
-    logical :: damped, refined, rotor, rotor_ok, bearings
+    logical :: damped, refined, rotor, rotor_ok, bearings, excited
     real(dp), allocatable :: bearing_p(:), bearing_pt(:), gb(:, :), gb_trial(:, :), bearing_force(:, :)
     integer(ik), allocatable :: bearing_loaded(:)
     real(dp) :: bearing_change, bearing_scale
@@ -397,6 +408,11 @@ contains
     flips = 0
     damper_on = .true.
     offset = 0.0_dp
+    ! displacement excitations s_m e_m along delta_m (module header), 0 without
+    allocate (excite(n_mesh))
+    excite = 0.0_dp
+    excited = nonlinear .and. problem%has_table .and. problem%iparam(ip_varying) /= 0
+    if (excited) excited = has_excitation(problem%table)
     rate = 0.0_dp
     c_off = 0.0_dp
     allocate (theta(n_mesh), position(problem%table%max_pairs, n_mesh), pairs(n_mesh), loaded(n_mesh))
@@ -463,9 +479,18 @@ contains
       end if
     end if
 
+    if (excited) then  ! the excitation at the state the run starts from
+      call sparse_products(problem%angle, q, theta)
+      call evaluate_excitation(table, theta, excite, info)
+      if (info /= ct_ok) then
+        ierr = nm_err_contact
+        return
+      end if
+      excite = real(problem%contact_sign, dp) * excite
+    end if
     if (istate(is_step) == 0) then  ! the dampers of the touching flanks (probes' test)
       call record_probes(problem, probe_kind, probes, q, v, a, k_used, problem%mesh_damping, &
-                         rstate, samples, n_samples, ierr)
+                         rstate, samples, n_samples, ierr, excite)
       if (ierr /= nm_ok) return
     end if
 
@@ -668,7 +693,7 @@ contains
           return
         end if
         k_used = k_eff
-        if (separation) then
+        if (separation .or. excited) then
           mesh_var = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
         else
           mesh_var = (k_eff - problem%mean_stiffness) * delta
@@ -700,7 +725,7 @@ contains
       end if
       if (decimation == 1 .or. modulo(istate(is_step), decimation) == 0) then
         call record_probes(problem, probe_kind, probes, q, v, a, k_used, &
-                           problem%mesh_damping - c_off, rstate, samples, n_samples, ierr)
+                           problem%mesh_damping - c_off, rstate, samples, n_samples, ierr, excite)
         if (ierr /= nm_ok) return
       end if
     end do
@@ -765,8 +790,9 @@ contains
       do mm = 1, n_mesh
         delta_n = sparse_dot(problem%mesh, mm, q)
         call add_sparse(problem%mesh, mm, &
-                        -((k_step(mm) - problem%mean_stiffness(mm)) * delta_n - mesh_var(mm)), rhs)
-        mesh_var(mm) = (k_step(mm) - problem%mean_stiffness(mm)) * delta_n
+                        -((k_step(mm) - problem%mean_stiffness(mm)) * delta_n &
+                          - k_step(mm) * excite(mm) - mesh_var(mm)), rhs)
+        mesh_var(mm) = (k_step(mm) - problem%mean_stiffness(mm)) * delta_n - k_step(mm) * excite(mm)
       end do
       if (sparse) then
         call solve_mass(problem%sparse, rhs, info)
@@ -870,6 +896,10 @@ contains
           else if (separation) then
             k_coast = k_step
           end if
+          if (code == ct_ok .and. excited) then
+            call evaluate_excitation(table, theta, excite, code)
+            excite = real(problem%contact_sign, dp) * excite
+          end if
           if (code /= ct_ok) then
             ierr = nm_err_contact
             bad = 0
@@ -885,9 +915,14 @@ contains
       k_eff = k_step
       if (separation) then
         do mm = 1, n_mesh
-          call flank_force_law(problem%contact_sign(mm), delta(mm), problem%backlash(mm), &
-                               k_step(mm), k_coast(mm), k_eff(mm), offset(mm), flank(mm))
+          call flank_force_law(problem%contact_sign(mm), delta(mm) - excite(mm), &
+                               problem%backlash(mm), k_step(mm), k_coast(mm), k_eff(mm), &
+                               offset(mm), flank(mm))
         end do
+        if (excited) offset = offset + excite
+        g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
+      else if (excited) then
+        offset = excite
         g_x = (k_eff - problem%mean_stiffness) * delta - k_eff * offset
       else
         g_x = (k_eff - problem%mean_stiffness) * delta

@@ -4,7 +4,8 @@
 !> module flank_contact: drive > 0, free 0, coast < 0).  The force is the spring's and
 !> the mesh damper's together, F = k c + c_m s_m b_m . v while the flanks touch
 !> (c the compression of the flank in contact), and 0 while they are apart; c_m is the
-!> damper the step used (c_used).
+!> damper the step used (c_used).  A mesh with a displacement excitation e_m (module
+!> contact_table) has the compression s_m delta_m - e_m (shift = s_m e_m along delta_m).
 module newmark_probes
   use kinds, only: dp, ik
   use newmark_support, only: sparse_rows, probe_displacement, probe_velocity, &
@@ -21,7 +22,7 @@ contains
 
   !> Append one column of probe values to samples.
   pure subroutine record_probes(problem, probe_kind, probes, x, xd, xdd, k_used, c_used, rstate, &
-                                samples, n_samples, ierr)
+                                samples, n_samples, ierr, shift)
     type(transient_problem), intent(in) :: problem     !< the problem
     integer(ik), intent(in) :: probe_kind(:)           !< probe codes [-]
     type(sparse_rows), intent(in) :: probes            !< probe weights (a mesh for mesh kinds) [-]
@@ -34,6 +35,7 @@ contains
     real(dp), intent(inout), contiguous :: samples(:, :) !< (probes, columns) channels [channel units]
     integer(ik), intent(inout) :: n_samples            !< columns written [-]
     integer(ik), intent(inout) :: ierr                 !< error code, nm_err_size when full
+    real(dp), intent(in), optional :: shift(:)         !< s_m e_m of excited meshes along delta_m [m]
     integer(ik) :: p, m
     real(dp) :: d
     logical :: touching
@@ -53,7 +55,9 @@ contains
         samples(p, n_samples) = dot(probes, p, xdd)
       case (probe_mesh_force)  ! F = k c (drive), 0 (free), k (c + b) (coast), + damper
         m = probes%index(probes%ptr(p) + 1)
-        d = real(problem%contact_sign(m), dp) * dot(problem%mesh, m, x)
+        d = dot(problem%mesh, m, x)
+        if (present(shift)) d = d - shift(m)
+        d = real(problem%contact_sign(m), dp) * d
         touching = .true.
         if (problem%iparam(ip_separation) /= 0) then
           if (d < -problem%backlash(m)) then

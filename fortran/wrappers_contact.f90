@@ -11,7 +11,8 @@ subroutine contact_table_create(n_mesh, teeth, cycle_sign, tooth_offset, mean_st
                                 contact_ratio, end_to_peak, phase, law, curve_start, &
                                 curve_size, n_curve, curve, factor_start, n_factor, &
                                 factor, tooth_curve_block, n_tooth, tooth_curve_start, &
-                                tooth_curve_size, max_pairs, handle, bad_mesh, ierr)
+                                tooth_curve_size, excitation_start, excitation_size, &
+                                n_excitation, excitation, max_pairs, handle, bad_mesh, ierr)
   use kinds, only: dp, ik
   use contact_table, only: tooth_contact_table, create_contact_table
   implicit none
@@ -35,6 +36,10 @@ subroutine contact_table_create(n_mesh, teeth, cycle_sign, tooth_offset, mean_st
   integer(ik), intent(in) :: n_tooth                       !< size of the per-tooth curve arrays [-]
   integer(ik), intent(in) :: tooth_curve_start(n_tooth)    !< a tooth's curve offset in curve [-]
   integer(ik), intent(in) :: tooth_curve_size(n_tooth)     !< its samples, 0 the law [-]
+  integer(ik), intent(in) :: excitation_start(n_mesh)     !< offsets of e(s) in excitation [-]
+  integer(ik), intent(in) :: excitation_size(n_mesh)      !< samples of e(s), 0 none [-]
+  integer(ik), intent(in) :: n_excitation                  !< size of excitation [-]
+  real(dp), intent(in) :: excitation(n_excitation)         !< packed e(s) samples [m]
   integer(ik), intent(in) :: max_pairs                     !< pairs per mesh the outputs hold [-]
   integer(ik), intent(out) :: handle                       !< the table's handle, 0 on error [-]
   integer(ik), intent(out) :: bad_mesh                     !< first mesh at fault (1-based), 0 if none [-]
@@ -48,7 +53,10 @@ subroutine contact_table_create(n_mesh, teeth, cycle_sign, tooth_offset, mean_st
                                                 curve=curve, factor_start=factor_start, &
                                                 factor=factor, tooth_curve_block=tooth_curve_block, &
                                                 tooth_curve_start=tooth_curve_start, &
-                                                tooth_curve_size=tooth_curve_size), &
+                                                tooth_curve_size=tooth_curve_size, &
+                                                excitation_start=excitation_start, &
+                                                excitation_size=excitation_size, &
+                                                excitation=excitation), &
                             handle, bad_mesh, ierr)
 end subroutine contact_table_create
 
@@ -108,6 +116,28 @@ subroutine contact_table_series(handle, n_state, n_mesh, max_pairs, theta, stiff
   call evaluate_contact_series(table, theta, stiffness, n_pairs, n_loaded, position, tooth, &
                                bad_state, ierr)
 end subroutine contact_table_series
+
+!> The displacement excitation e_m of every mesh at many states (0 without one).
+subroutine contact_table_excitation(handle, n_state, n_mesh, theta, excitation, ierr)
+  use kinds, only: dp, ik
+  use contact_table, only: tooth_contact_table, contact_table_at, evaluate_excitation, ct_ok
+  implicit none
+  integer(ik), intent(in) :: handle                      !< handle from contact_table_create [-]
+  integer(ik), intent(in) :: n_state                     !< number of states [-]
+  integer(ik), intent(in) :: n_mesh                      !< number of meshes [-]
+  real(dp), intent(in) :: theta(n_mesh, n_state)         !< gear 1 rotations relative to the carrier [rad]
+  real(dp), intent(out) :: excitation(n_mesh, n_state)   !< e_m along the drive compression [m]
+  integer(ik), intent(out) :: ierr                       !< error code (0 = ok)
+  type(tooth_contact_table), pointer :: table
+  integer(ik) :: t
+
+  call contact_table_at(handle, n_mesh, table, ierr)
+  if (ierr /= ct_ok) return
+  do t = 1, n_state
+    call evaluate_excitation(table, theta(:, t), excitation(:, t), ierr)
+    if (ierr /= ct_ok) return
+  end do
+end subroutine contact_table_excitation
 
 !> Timing loop for benchmarks: evaluates n_state states n_repeat times inside
 !> one call and returns the wall time of the loop alone (system_clock).

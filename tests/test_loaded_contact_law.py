@@ -116,7 +116,8 @@ def test_load_table_interpolates_between_its_loads():
 
 
 def test_te_equivalent_stiffness_carries_the_loaded_te():
-    """With tip relief (delta_0 != 0): a spring k_e(s) = F_0 / (delta(s) - c) deflects
+    """With tip relief (delta_0 != 0): a spring k_e(s) = F_0 / (delta(s) - c) (what a mesh
+    with per-tooth deviations runs) deflects
     under F_0 by the loaded TE less the constant c (exact but for one division); k_e keeps
     the LTCA's mean secant stiffness (the bisection's 1e-12); and the pair curve the
     contact table reads sums over the pairs in contact, p = s + k, to k_e at every
@@ -132,7 +133,8 @@ def test_te_equivalent_stiffness_carries_the_loaded_te():
                                rtol=1e-13, atol=0)  # fmt: skip
     assert stiffness.mean() == pytest.approx(table.mean_stiffness(table.operating_force),
                                              rel=1e-12)  # fmt: skip
-    pair = law.curve * law.mean_stiffness / law.contact_ratio
+    # the curve a mesh with per-tooth deviations runs (the law's mean is the secant's)
+    pair = law.equivalent_curve * law.mean_stiffness / law.contact_ratio
     samples = np.linspace(0.0, law.contact_ratio, pair.size)
     total = sum(np.interp(table.position + k, samples, pair, right=0.0)
                 for k in range(math.ceil(law.contact_ratio) + 1))  # fmt: skip

@@ -263,6 +263,9 @@ def test_tabulated_curve_reproduces_mesh_in_contact_table():
         -np.ones((2, 1), np.int32, order="F"),  # no tooth with a curve of its own
         np.zeros(1, np.int32),
         np.zeros(1, np.int32),
+        np.zeros(1, np.int32),  # no displacement excitation
+        np.zeros(1, np.int32),
+        np.zeros(1),
         4,
     )
     handle, _, ierr = _kernel.contact_table_create(*args)

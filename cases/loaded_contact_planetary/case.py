@@ -3,8 +3,9 @@
 The stage, bodies, sensor and time step of cases/sequential_planetary (imported from
 that case), its two meshes on the ``loaded_contact`` law: the loaded tooth contact of
 each pair with the gears' micro-geometry, tabulated once per mesh over position and
-load at the operating line load, enters the time loop and the harmonic balance as the
-TE-equivalent stiffness (docs/contact.md, "The loaded contact as a mesh law").  The
+load at the operating line load, enters the time loop and the harmonic balance as its
+secant stiffness with the unloaded TE as a displacement excitation (docs/contact.md,
+"The loaded contact as a mesh law").  The
 carrier torque is ten times the sequential case's, a line load of 313 N/mm (an
 industrial gear's), so that the flanks' micro-geometry and deviations of a few
 micrometres stay below the mesh's static deflection (about 18 um).

@@ -4,7 +4,8 @@ The gearbox, rotor, generator and run-up of cases/nrel5mw_gearbox (imported from
 case, with its sources), its five meshes (two planetary stages and the helical pair) on
 the ``loaded_contact`` law: each pair's loaded tooth contact with the gears'
 micro-geometry, tabulated once per mesh at its rated mesh force, enters the run-up as
-the TE-equivalent stiffness (docs/contact.md, "The loaded contact as a mesh law").  The
+its secant stiffness with the unloaded TE as a displacement excitation (docs/contact.md,
+"The loaded contact as a mesh law").  The
 operating line loads follow from the rated rotor torque through the tooth counts; the
 micro-geometry is ASSUMED (the references give none), its reasons beside it.
 """

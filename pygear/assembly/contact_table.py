@@ -82,6 +82,13 @@ class ContactTable:
         Per tooth: offset of its own pair curve in ``curve`` and its samples (0: the
         tooth follows the mesh's law).  The curve is on the tabulated law's scale,
         k_pair = (k-bar / eps) c(p) at p = eps q / (n - 1) (``MeshStiffness.faulty_curve``).
+    excitation_start, excitation_size : ndarray of int32, shape (n_mesh,), optional
+        Offset and samples of each mesh's displacement excitation in ``excitation``
+        (size 0: none); None: no mesh has one.
+    excitation : ndarray of float64, optional
+        Packed excitations e(s) [m] along the drive flank's compression, each one period
+        over a mesh cycle at s = q / (n - 1) (first sample = last); the mesh force is
+        k_m (c - e(s)) (the ``loaded_contact`` law's unloaded transmission error).
     """
 
     names: tuple[str, ...]
@@ -105,6 +112,9 @@ class ContactTable:
     tooth_curve_block: np.ndarray | None = None
     tooth_curve_start: np.ndarray | None = None
     tooth_curve_size: np.ndarray | None = None
+    excitation_start: np.ndarray | None = None
+    excitation_size: np.ndarray | None = None
+    excitation: np.ndarray | None = None
 
     @property
     def size(self) -> int:
@@ -119,6 +129,11 @@ class ContactTable:
         else:
             none = np.full((2, self.size), -1, dtype=np.int32, order="F")
             teeth_curves = (none, np.zeros(1, np.int32), np.zeros(1, np.int32))
+        if self.excitation is not None:
+            excitation = (self.excitation_start, self.excitation_size, self.excitation)
+        else:
+            zero = np.zeros(self.size, dtype=np.int32)
+            excitation = (zero, zero, np.zeros(1))
         return (
             self.teeth,
             self.cycle_sign,
@@ -134,6 +149,7 @@ class ContactTable:
             self.factor_start,
             self.factor,
             *teeth_curves,
+            *excitation,
             self.max_pairs,
         )
 
@@ -230,6 +246,17 @@ class ContactTable:
             "tooth_2": tooth[1].transpose(2, 1, 0),
         }
 
+    def excitation_at(self, theta: np.ndarray) -> np.ndarray:
+        """The displacement excitation e_m [m] of every mesh (0 without one) along the
+        drive flank's compression, at states ``theta`` (..., n_mesh) [rad]."""
+        theta = np.asarray(theta, dtype=np.float64)
+        if self.excitation is None:
+            return np.zeros(theta.shape)
+        flat = np.asfortranarray(theta.reshape(-1, self.size).T)
+        values, ierr = _kernel.contact_table_excitation(handle=self.handle, theta=flat)
+        self._raise(ierr, "contact_table_excitation")
+        return values.T.reshape(theta.shape)
+
     def check(self) -> None:
         """Hand the table to the kernel, which checks it; raise :class:`KernelError` naming
         the mesh at fault."""
@@ -250,6 +277,7 @@ def build_contact_table(
     *,
     direction: int = 1,
     sun_driven: bool = True,
+    excitation: bool = True,
 ) -> ContactTable:
     """The tooth-contact table of an assembled model's meshes.
 
@@ -268,6 +296,10 @@ def build_contact_table(
         True when the carrier drives and the sun is the output (the seed's case);
         it decides where contact starts and so the ring-to-sun phase, and the
         direction in which a curve computed from gear geometry is read.
+    excitation : bool
+        False: ``loaded_contact`` meshes run their TE-equivalent stiffness without the
+        displacement excitation (the first-order form, for a balance that takes no
+        excitation force).
 
     Each mesh's law, mean stiffness, contact ratio and curve are those of
     :func:`pygear.assembly.mesh_laws.mesh_law` (resolved once per case).
@@ -289,8 +321,7 @@ def build_contact_table(
     several = len(case.gearbox.stages) > 1
     phasing: dict[str, dict] = {}
     rows = []
-    curves: list[np.ndarray] = []
-    curve_offset = 0
+    laws = []
     parallel_sense = _parallel_senses(case, model)
     for mesh in model.meshes:
         stage = case.gearbox.stage(mesh.stage)
@@ -315,12 +346,14 @@ def build_contact_table(
             start=0,
             size=0,
         )
-        curve = law.oriented_curve(sun_driven)
-        if curve is not None:
-            row.update(start=curve_offset, size=len(curve))
-            curves.append(curve)
-            curve_offset += len(curve)
         rows.append(row)
+        laws.append(law)
+    meshes = [(m.stage, r["member"], r["gears"]) for m, r in zip(model.meshes, rows)]
+    # teeth' own curves: per-tooth deviations on loaded-contact meshes, damaged teeth
+    # (a damaged tooth's fault curve replaces its deviation curve)
+    tooth_curves = deviation_curves(case, meshes, sun_driven)
+    first_order = {key[0] for key in tooth_curves} if excitation else set(range(len(rows)))
+    curves, excitations = _pack_curves(rows, laws, sun_driven, first_order)
     factor_start, factor = _pack_factors(case, rows, defects)
     ratios = np.array([r["ratio"] for r in rows], dtype=np.float64)
     table = ContactTable(
@@ -337,22 +370,56 @@ def build_contact_table(
         law=np.array([r["law"] for r in rows], dtype=np.int32),
         curve_start=np.array([r["start"] for r in rows], dtype=np.int32),
         curve_size=np.array([r["size"] for r in rows], dtype=np.int32),
-        curve=np.concatenate(curves + [np.zeros(1)]),
+        curve=curves,
         factor_start=factor_start,
         factor=factor,
         max_pairs=int(math.ceil(ratios.max())) + 1 if len(rows) else 1,
         defects=defects,
+        **excitations,
     )
     table.check()
-    meshes = [(m.stage, r["member"], r["gears"]) for m, r in zip(model.meshes, rows)]
-    # teeth' own curves: per-tooth deviations on loaded-contact meshes, damaged teeth
-    # (a damaged tooth's fault curve replaces its deviation curve)
-    tooth_curves = deviation_curves(case, meshes, sun_driven)
     if any(defect.fault is not None for defect in defects):
         tooth_curves.update(fault_curves(case, meshes, defects, sun_driven))
     if tooth_curves:
         table = with_tooth_curves(table, tooth_curves)
     return table
+
+
+def _pack_curves(
+    rows: list[dict], laws: list, sun_driven: bool, deviated: set[int]
+) -> tuple[np.ndarray, dict]:
+    """The packed pair curves (each row's start and size set) and the packed
+    displacement excitations as ContactTable fields (empty without any).  A
+    ``loaded_contact`` mesh with per-tooth deviations (index in ``deviated``) runs its
+    TE-equivalent curve and no excitation (module loaded_contact_table)."""
+    curves: list[np.ndarray] = []
+    offset = 0
+    excitations: list[np.ndarray] = []
+    start = np.zeros(len(rows), dtype=np.int32)
+    size = np.zeros(len(rows), dtype=np.int32)
+    excited_offset = 0
+    for index, (row, law) in enumerate(zip(rows, laws)):
+        curve = law.oriented_curve(sun_driven)
+        excitation = law.oriented_excitation(sun_driven)
+        if index in deviated and law.equivalent_curve is not None:
+            curve = law.equivalent_curve
+            if law.mirrored and not sun_driven:
+                curve = np.ascontiguousarray(curve[::-1])
+            excitation = None
+        if curve is not None:
+            row.update(start=offset, size=len(curve))
+            curves.append(curve)
+            offset += len(curve)
+        if excitation is not None:
+            start[index], size[index] = excited_offset, excitation.size
+            excitations.append(excitation)
+            excited_offset += excitation.size
+    packed = np.concatenate(curves + [np.zeros(1)])
+    if not excitations:
+        return packed, {}
+    return packed, dict(
+        excitation_start=start, excitation_size=size, excitation=np.concatenate(excitations)
+    )
 
 
 def with_tooth_curves(

@@ -26,11 +26,13 @@ parameter and, for a tabulated law, the unit-mean curve.
 - ``loaded_contact``: the loaded tooth contact analysis of the pair with its gears'
   micro-geometry (:mod:`pygear.assembly.loaded_contact_table`), tabulated over mesh
   position and load once per mesh at the operating load w b (``Mesh.line_load`` w on
-  the common face width b) and 0.25 to 2 times it; the dynamics take its TE-equivalent
-  pair curve at the operating load as a tabulated law (the loaded TE of the
-  micro-geometry as the mesh spring's deflection under that load), k-bar the LTCA's
-  mean mesh stiffness.  Per-tooth deviations (single pitch deviations, runout) enter
-  the contact table tooth by tooth (:func:`pygear.assembly.tooth_fault_curves.deviation_curves`).
+  the common face width b) and 0.25 to 2 times it; the dynamics take its secant
+  stiffness at the operating load as a tabulated law and its unloaded transmission
+  error as the mesh's displacement excitation (force k(s) (c - delta_0(s)), which
+  deflects under that load by the LTCA's loaded TE), k-bar the LTCA's mean mesh
+  stiffness.  Per-tooth deviations (single pitch deviations, runout) enter the contact
+  table tooth by tooth as TE-equivalent stiffness curves
+  (:func:`pygear.assembly.tooth_fault_curves.deviation_curves`).
 
 Results are cached by their frozen inputs (the mesh, the mesh geometry, the bores, the
 stage's helix; the gears' modifications for ``loaded_contact``), so the element
@@ -105,6 +107,13 @@ class MeshLaw:
         The mesh geometry the law was derived from, if any.
     table : LoadedContactTable or None
         The ``loaded_contact`` law's table over position and load (None otherwise).
+    excitation : ndarray or None
+        The ``loaded_contact`` law's displacement excitation: the unloaded TE [m] at equal
+        steps over one mesh cycle s = 0 .. 1 (first = last), for the power flow of
+        ``curve`` (None for the other laws).
+    equivalent_curve : ndarray or None
+        The ``loaded_contact`` law's unit-mean TE-equivalent pair curve, which a mesh
+        with per-tooth deviations runs instead of ``curve`` and the excitation.
     """
 
     law: str
@@ -118,10 +127,13 @@ class MeshLaw:
     mirrored: bool = False
     geometry: MeshGeometry | None = None
     table: LoadedContactTable | None = None
+    excitation: np.ndarray | None = None
+    equivalent_curve: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        if self.curve is not None:  # shared through the cache: nobody may change it
-            self.curve.setflags(write=False)
+        for array in (self.curve, self.excitation, self.equivalent_curve):
+            if array is not None:  # shared through the cache: nobody may change it
+                array.setflags(write=False)
 
     def oriented_curve(self, sun_driven: bool = True) -> np.ndarray | None:
         """The tabulated curve for a power flow: as stored when the carrier (or input
@@ -129,6 +141,17 @@ class MeshLaw:
         if self.curve is None or sun_driven or not self.mirrored:
             return self.curve
         return np.ascontiguousarray(self.curve[::-1])
+
+    def oriented_excitation(self, sun_driven: bool = True) -> np.ndarray | None:
+        """The excitation for a power flow: as stored, or for a mirrored law read along
+        the mirrored cycle, e'(s) = e(frac(eps - s)) (the mesh stiffness of the mirrored
+        pair curve is k(frac(eps - s)) as well)."""
+        if self.excitation is None or sun_driven or not self.mirrored:
+            return self.excitation
+        grid = np.linspace(0.0, 1.0, self.excitation.size)
+        values = np.interp(np.mod(self.contact_ratio - grid, 1.0), grid, self.excitation)
+        values[-1] = values[0]
+        return values
 
 
 def stage_mesh_members(stage: object) -> tuple[str, ...]:
@@ -264,11 +287,14 @@ def _resolve(key: tuple) -> MeshLaw:
         table = loaded_contact_table(geometry, bodies, mods,
                                      operating_force(geometry, mesh.line_load),
                                      driving_gear=driving, path=path)  # fmt: skip
-        curve = unit_mean_curve(table.pair_curve())
+        secant = table.secant_pair_curve()
         return MeshLaw(code=LAW_CODES["tabulated"],
-                       mean_stiffness=table.contact_ratio * _trapezoid_mean(table.pair_curve()),
+                       mean_stiffness=table.contact_ratio * _trapezoid_mean(secant),
                        contact_ratio=table.contact_ratio, end_to_peak=float(mesh.end_to_peak),
-                       curve=curve, mirrored=True, table=table, **common)  # fmt: skip
+                       curve=unit_mean_curve(secant), mirrored=True, table=table,
+                       excitation=table.excitation(),
+                       equivalent_curve=unit_mean_curve(table.pair_curve()),
+                       **common)  # fmt: skip
     raise CaseError(f"{path}.law must be one of {', '.join(LAWS)} (got {law!r})")
 
 

@@ -410,8 +410,9 @@ def mesh_signals(system: ResponseSystem, solution: HillSolution) -> tuple[np.nda
     deflection : ndarray, shape (N, n_mesh)
         delta_m(tau) [m] from the Fourier series.
     force : ndarray, shape (N, n_mesh)
-        s_m k_m(tau) delta_m(tau) [N], > 0 with the loaded flanks pressed together,
-        with the sampled (not truncated) stiffness.
+        s_m k_m(tau) (delta_m(tau) - s_m e_m(tau)) [N], > 0 with the loaded flanks
+        pressed together, with the sampled (not truncated) stiffness (e_m the mesh's
+        displacement excitation, :mod:`.mesh_excitation`; 0 without).
     """
     n = system.stiffness.shape[0]
     h = solution.harmonics
@@ -419,6 +420,8 @@ def mesh_signals(system: ResponseSystem, solution: HillSolution) -> tuple[np.nda
     spectrum[np.arange(-h, h + 1) % n] = solution.deflection
     deflection = np.real(np.fft.ifft(spectrum, axis=0)) * n
     force = system.contact_sign * system.stiffness * deflection
+    if system.excitation is not None:
+        force = system.contact_sign * system.stiffness * (deflection - system.excitation)
     return deflection, force
 
 

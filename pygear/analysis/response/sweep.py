@@ -37,6 +37,7 @@ from ...errors import CaseError
 from ...model.case import Case, Scene
 from .floquet import DEFAULT_SEGMENTS, system_multipliers
 from .hill import AUTO_HARMONICS, HillSolution, fourier_coefficients, harmonic_balance, mesh_signals
+from .mesh_excitation import refuse_excitation
 from .quasi_sweep import quasi_balance, quasi_multipliers, quasi_record
 from .system import ResponseSystem, response_system
 
@@ -203,6 +204,7 @@ def contact_loss_response(
             "mesh frequencies; contact loss is balanced for one frequency group only "
             "(a planetary stage or gear pair)"
         )
+    refuse_excitation(system, "the contact-loss balance")
     law = case_law(case, system, scene)  # refuses a mesh without backlash before any work
     linear = sweep_system(system, speeds, harmonics=harmonics, tolerance=tolerance,
                           stability=stability, progress=progress)  # fmt: skip

@@ -45,6 +45,7 @@ from ...errors import CaseError
 from ...linalg import generalized_eigh
 from ...model.case import Case, Scene
 from ...rigid_modes import rigid_body_mask
+from .mesh_excitation import mesh_excitation
 
 _log = logging.getLogger("pygear")
 
@@ -119,6 +120,9 @@ class ResponseSystem:
         of mesh m's group fundamental, and ``mesh_order`` counts in it.  None: one group.
     group_fundamentals : ndarray, shape (groups,), optional
         nu_g: every group's fundamental [Hz] per rad/s of the input member.
+    excitation : ndarray, shape (samples, n_mesh), optional
+        s_m e_m(tau), the meshes' displacement excitation along their deflections [m]
+        (:mod:`.mesh_excitation`); the mesh force is k_m (delta_m - s_m e_m).
     """
 
     eigenvalues: np.ndarray
@@ -139,6 +143,7 @@ class ResponseSystem:
     harmonic_force: np.ndarray | None = None
     mesh_group: np.ndarray | None = None
     group_fundamentals: np.ndarray | None = None
+    excitation: np.ndarray | None = None
 
     @property
     def groups(self) -> int:
@@ -437,21 +442,29 @@ def response_system(
     stages_of = [m.stage for m in model.meshes]
     group, orders, fundamentals, snapped = frequency_groups(frequency, stages_of)
     fundamental = float(fundamentals[0])
+    if fundamentals.size > 1 and table.excitation is not None:  # see .mesh_excitation
+        table = build_contact_table(case, model, scene, direction=1, excitation=False,
+                                    sun_driven=".sun." not in input_label)  # fmt: skip
     mean = np.array([m.mean_stiffness for m in model.meshes])
     tau = np.arange(samples) / samples
+    # theta_rel of each mesh along the snapped kinematics: n_m cycles per period
+    theta = np.outer(tau, np.sign(rates) * 2 * math.pi * orders / table.teeth[0])
     if time_varying:
-        # theta_rel of each mesh along the snapped kinematics: n_m cycles per period
-        theta = np.outer(tau, np.sign(rates) * 2 * math.pi * orders / table.teeth[0])
         stiffness = np.array(table.series(theta)["stiffness"], dtype=np.float64)
     else:
         stiffness = np.broadcast_to(mean, (samples, mean.size)).copy()
+    te = None  # the excitation is part of the varying mesh, as in the kernel
+    if time_varying:
+        te = mesh_excitation(table, theta, stiffness, sign, rows, groups=fundamentals.size)
     several = len(case.gearbox.stages) > 1
     names = [f"{m.stage}.{m.name}" if several else m.name for m in model.meshes]
     return ResponseSystem(
         eigenvalues=eigenvalues,
         damping=0.5 * (damping + damping.T),
         mesh_rows=rows,
-        force=psi.T @ force,
+        force=psi.T @ force + (te.mean_force if te else 0.0),
+        harmonic_force=te.harmonic_force if te else None,
+        excitation=te.excitation if te else None,
         mean_stiffness=mean,
         stiffness=stiffness,
         contact_sign=sign,
