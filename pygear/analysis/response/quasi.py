@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import logging
 import math
 from dataclasses import dataclass
 
@@ -67,8 +68,13 @@ DEFAULT_MIXED_ORDER = 4
 """Total order M of the combination frequencies kept (two or more nonzero components)."""
 
 GMRES_TOLERANCE = 1e-11
+GMRES_ACCEPT = 1e-8
 GMRES_RESTART = 60
 GMRES_CYCLES = 4
+"""GMRES on (3): relative residual aimed at, relative residual below which a stop short
+of it passes without a warning, Krylov vectors, restarts."""
+
+_log = logging.getLogger("pygear")
 
 
 @dataclass(frozen=True)
@@ -416,7 +422,7 @@ def solve_quasi(
     def counted(_: float) -> None:
         count[0] += 1
 
-    solution, _ = scipy.sparse.linalg.gmres(
+    solution, info = scipy.sparse.linalg.gmres(
         scipy.sparse.linalg.LinearOperator((size, size), apply, dtype=complex),
         rhs.reshape(-1),
         M=scipy.sparse.linalg.LinearOperator((size, size), precondition, dtype=complex),
@@ -427,6 +433,13 @@ def solve_quasi(
         callback=counted,
         callback_type="pr_norm",
     )
+    if info != 0:
+        miss = np.linalg.norm(apply(solution) - rhs.reshape(-1)) / np.linalg.norm(rhs)
+        if not miss <= GMRES_ACCEPT:
+            _log.warning(
+                f"response: the lattice's GMRES stopped at a relative residual of {miss:.1e} "
+                f"after {count[0]} iterations (frequencies {omegas / (2 * math.pi)} Hz)"
+            )
     deflection = solution.reshape(inner.size, n_mesh)
     # the real solution's symmetry delta_{-k} = conj(delta_k), exact
     deflection = 0.5 * (deflection + np.conj(deflection[plan.mirror]))
