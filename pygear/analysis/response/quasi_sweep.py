@@ -8,8 +8,9 @@ What a quasi-periodic response reports, against the periodic one of :mod:`.sweep
   of group g is sampled on a regular grid of its own phase theta_g (where its stiffness
   jumps) times a Kronecker sequence of the other groups' phases.
 - **Means and RMS** are exact on the lattice: the mean mesh force is the torus average
-  of k_m(theta_g) delta_m, which only the points on group g's axis reach, and the DTE RMS
-  about the mean is sqrt(sum_{k != 0} |delta_{k,m}|^2) (Parseval).
+  of k_m(theta_g) delta_m, which only the points on group g's axis reach (the sum of
+  their amplitudes against the coefficients of all the stiffness samples), and the DTE
+  RMS about the mean is sqrt(sum_{k != 0} |delta_{k,m}|^2) (Parseval).
 - **Stability.**  A quasi-periodic linear system has no monodromy matrix, so Floquet
   theory does not define its stability.  What is reported is the Floquet stability of
   every group on its own (that group's stiffness varying at its fundamental, every other
@@ -159,10 +160,12 @@ def quasi_record(system: ResponseSystem, solution: QuasiSolution) -> dict:
         deflection = np.real(np.fft.ifft(spectrum, axis=0)) * grid  # (grid, R, n_g)
         force = system.contact_sign[meshes] * stiffness[:, None, :] * deflection
         axis = np.flatnonzero(np.count_nonzero(np.delete(points, g, axis=1), axis=1) == 0)
-        line = np.zeros((grid, meshes.size), complex)
-        line[points[axis, g] % grid] = solution.deflection[axis][:, meshes]
-        on_axis = np.real(np.fft.ifft(line, axis=0)) * grid
-        mean[meshes] = (system.contact_sign[meshes] * stiffness * on_axis).mean(axis=0)
+        # torus mean of k_m(theta_g) delta_m = sum_j khat_{m,-j} delta_{j e_g, m}, with the
+        # coefficients of all the stiffness samples (the periodic balance's mean, exactly)
+        spectrum_k = np.fft.fft(system.stiffness[:, meshes], axis=0) / samples
+        khat = spectrum_k[(-points[axis, g]) % samples]  # (axis points, n_g)
+        overlap = np.real((khat * solution.deflection[axis][:, meshes]).sum(axis=0))
+        mean[meshes] = system.contact_sign[meshes] * overlap
         peak[meshes] = force.max(axis=(0, 1))
         low[meshes] = force.min(axis=(0, 1))
         pp[meshes] = deflection.max(axis=(0, 1)) - deflection.min(axis=(0, 1))
