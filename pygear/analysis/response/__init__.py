@@ -18,6 +18,7 @@ from .floquet import floquet_multipliers, system_multipliers
 from .hill import HillSolution, harmonic_balance, hill_matrix, mesh_signals, solve_hill
 from .nonlinear import BacklashLaw, case_law, oscillator_system
 from .operating import dynamic_factors_at
+from .quasi import QuasiSolution, solve_quasi
 from .sweep import (
     branch_jumps,
     contact_loss_response,
@@ -31,6 +32,7 @@ from .system import ResponseSystem, response_system
 __all__ = [
     "BacklashLaw",
     "HillSolution",
+    "QuasiSolution",
     "ResponseSystem",
     "branch_jumps",
     "case_law",
@@ -48,6 +50,7 @@ __all__ = [
     "scene_response",
     "separated_response",
     "solve_hill",
+    "solve_quasi",
     "sweep_system",
     "system_multipliers",
 ]

@@ -26,10 +26,12 @@ sum_g |k_g| <= M.  A combination amplitude is of second order in the stiffness
 variations, so M is small.
 
 Solution.  (3) is solved by GMRES with a block-Jacobi preconditioner: for every group
-and every lattice line parallel to its axis, the exact (dense LU) inverse of (3)
-restricted to that line and to the group's own meshes, i.e. the single-frequency Hill
-system of that stage at the line's frequency offset.  What it leaves out couples
-different stages through G alone, so GMRES converges in a few iterations.
+and every lattice line parallel to its axis, the exact inverse of (3) restricted to that
+line and to the group's own meshes, i.e. the single-frequency Hill system of that stage
+at the line's frequency offset (the axis through the origin by the real-form LU of
+:func:`.hill.real_factor`, the shorter offset lines by stacked dense inverses).  What it
+leaves out couples different stages through G alone, so GMRES converges in a few
+iterations.
 
 Residual.  As for one frequency: the deflection the next lattice layer would add (the
 points of the lattice with orders 2 H_g and 2 M not in L), one block-Jacobi step of (3),
@@ -57,6 +59,7 @@ __all__ = [
     "DEFAULT_MIXED_ORDER",
     "Lattice",
     "QuasiSolution",
+    "group_coefficients",
     "lattice",
     "quasi_receptance",
     "solve_quasi",

@@ -312,8 +312,18 @@ def sweep_system(
     with _thread_limit():
         for i, speed in enumerate(speeds):
             if several:  # incommensurate mesh frequencies: the multi-frequency balance
-                records.append(_quasi_speed(system, float(speed), harmonics, tolerance,
-                                            max_harmonics, cover, stability, segments))
+                records.append(
+                    _quasi_speed(
+                        system,
+                        float(speed),
+                        harmonics,
+                        tolerance,
+                        max_harmonics,
+                        cover,
+                        stability,
+                        segments,
+                    )
+                )
                 if progress is not None:
                     progress(i + 1, speeds.size)
                 continue
@@ -533,12 +543,16 @@ def _dataset(
         "method": "harmonic balance (Hill's method), condensed onto the mesh deflections",
     }
     if system.groups > 1:
-        attrs["method"] = ("multi-frequency harmonic balance on a lattice of combination "
-                           "frequencies, condensed onto the mesh deflections")
+        attrs["method"] = (
+            "multi-frequency harmonic balance on a lattice of combination "
+            "frequencies, condensed onto the mesh deflections"
+        )
         attrs["group_fundamentals_per_rad_s"] = system.group_fundamentals
         attrs["mesh_group"] = system.mesh_group.astype(np.int32)
-        attrs["stability"] = ("Floquet stability of every frequency group on its own, the "
-                              "other meshes at mean stiffness (quasi-periodic: no monodromy)")
+        attrs["stability"] = (
+            "Floquet stability of every frequency group on its own, the "
+            "other meshes at mean stiffness (quasi-periodic: no monodromy)"
+        )
     return xr.Dataset(data, coords, attrs)
 
 
