@@ -355,6 +355,27 @@ def frequency_groups(
     return group, orders, fundamentals, snap
 
 
+def _refuse_once_per_revolution(table) -> None:
+    """Refuse meshes whose stiffness repeats once per gear revolution, not per mesh cycle.
+
+    A tooth fault or a per-tooth deviation (pitch error, runout) gives one tooth its own
+    stiffness: the mesh is then periodic over a revolution of that gear, and a balance
+    sampled over one mesh period would miss it without a sign.
+    """
+    faulted = np.any(np.asarray(table.factor_start) >= 0, axis=0)
+    if table.tooth_curve_block is not None:
+        faulted |= np.any(np.asarray(table.tooth_curve_block) >= 0, axis=0)
+    if np.any(faulted):
+        names = [name for name, bad in zip(table.names, faulted) if bad]
+        which = f"{'meshes' if len(names) > 1 else 'mesh'} {', '.join(names)}"
+        raise CaseError(
+            f"{which}: a tooth of its own (a tooth fault, pitch deviation or runout) "
+            "repeats once per gear revolution, which the harmonic balance over one mesh "
+            "period cannot hold; run it in time (pygear run) or drop the defect from the "
+            "response scene"
+        )
+
+
 def response_system(
     case: Case,
     scene: Scene | None = None,
@@ -386,8 +407,9 @@ def response_system(
     Raises
     ------
     CaseError
-        No meshes, no single rigid rotation through the input member, or meshes
-        or a mesh that does not turn with the input member.
+        No meshes, no single rigid rotation through the input member, a mesh that
+        does not turn with the input member, or a mesh with a tooth of its own (a
+        fault or per-tooth deviation, periodic over a gear revolution).
     """
     if not (isinstance(samples, int) and samples >= 64):
         raise CaseError(f"samples must be a whole number >= 64 (got {samples!r})")
@@ -430,6 +452,8 @@ def response_system(
     table = build_contact_table(
         case, model, scene, direction=1, sun_driven=".sun." not in input_label
     )
+    if time_varying:
+        _refuse_once_per_revolution(table)
     rates = np.zeros(len(model.meshes))
     for m, members in enumerate(table.angles):
         for member, s in zip(members, (1.0, -1.0)):
