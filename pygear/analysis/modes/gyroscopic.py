@@ -110,9 +110,12 @@ class SpeedModes:
 
 def mass_weighted_mac(mass: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
     """MAC_ij = |a_i^H M b_j|^2 / ((a_i^H M a_i)(b_j^H M b_j)) of complex shapes."""
-    cross = first.conj().T @ mass @ second
-    norm_a = np.einsum("im,ij,jm->m", first.conj(), mass, first).real
-    norm_b = np.einsum("im,ij,jm->m", second.conj(), mass, second).real
+    # M times the shapes once (a matrix product), not a three-operand einsum, which
+    # loops over M for every mode
+    mass_first, mass_second = mass @ first, mass @ second
+    cross = first.conj().T @ mass_second
+    norm_a = np.einsum("im,im->m", first.conj(), mass_first).real
+    norm_b = np.einsum("im,im->m", second.conj(), mass_second).real
     return np.abs(cross) ** 2 / np.outer(norm_a, norm_b)
 
 

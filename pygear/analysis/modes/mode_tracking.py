@@ -151,7 +151,7 @@ def _face(mass: np.ndarray, modes: SpeedModes, towards: np.ndarray) -> SpeedMode
         gram = basis.conj().T @ mass @ basis
         coefficients = np.linalg.solve(gram, basis.conj().T @ mass @ towards)
         share = np.einsum("km,kl,lm->m", coefficients.conj(), gram, coefficients).real
-        share /= np.einsum("im,ij,jm->m", towards.conj(), mass, towards).real
+        share /= np.einsum("im,im->m", towards.conj(), mass @ towards).real
         chosen = np.argsort(-share, kind="stable")[: group.size]
         turned = basis @ coefficients[:, chosen]
         if np.linalg.matrix_rank(turned, tol=1e-8 * np.abs(turned).max()) < group.size:
