@@ -399,10 +399,9 @@ def with_frame_terms(model: Any, frame_terms: FrameTerms | None) -> Any:
     response, an FRF) gets them.  ``model`` itself when ``frame_terms`` is None."""
     if frame_terms is None:
         return model
-    from .drivetrain import DrivetrainModel
 
     @dataclass
-    class _Spinning(DrivetrainModel):
+    class _Spinning(type(model)):  # a DrivetrainModel (not imported: drivetrain imports us)
         centripetal: Any = None
 
         def at_speed(self, speed_rpm: float) -> tuple[Any, Any]:
