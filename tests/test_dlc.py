@@ -318,3 +318,27 @@ def test_load_case_runs_on_the_whole_drivetrain(tmp_path):
         np.testing.assert_allclose(run.drive_torque.values, expected, rtol=1e-9)
         assert float(run.rainflow_mesh_force.sum()) > 0
         assert float(run.load_duration_time.sum()) > 0
+
+
+def test_batch_dlc_refuses_bad_input_before_any_work(tmp_path, capsys):
+    from pygear.cli import main
+
+    (tmp_path / "a_file").write_text("mine")
+    # a case without a table, an --out that is a file, a cluster option without
+    # --cluster, and --cluster on a plain batch: exit 2, one line, nothing written
+    runs = [
+        (["batch", "yang2016_planetary", "--dlc", "--out", str(tmp_path / "o")],
+         "has no design load cases"),
+        (["batch", "nrel5mw_gearbox", "--dlc", "--out", str(tmp_path / "a_file")],
+         "is a file"),
+        (["batch", "nrel5mw_gearbox", "--dlc", "--queue", "q", "--out", str(tmp_path / "o")],
+         "--queue applies to a job-queue cluster"),
+        (["batch", "nrel5mw_gearbox", "--cluster", "slurm", "--out", str(tmp_path / "o")],
+         "--cluster applies to design load cases and sweeps"),
+    ]  # fmt: skip
+    for argv, words in runs:
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err.strip()
+        assert words in err and "\n" not in err, (argv, err)
+    assert not (tmp_path / "o").exists()
+    assert (tmp_path / "a_file").read_text() == "mine"
