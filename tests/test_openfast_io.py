@@ -80,3 +80,25 @@ def test_unknown_torque_unit_is_refused(tmp_path):
 def test_missing_file_names_the_path(tmp_path):
     with pytest.raises(CaseError, match="no such file"):
         read_openfast_output(tmp_path / "absent.out")
+
+
+def test_binary_output_reads_like_the_text_one(tmp_path):
+    # an .outb in OpenFAST's uncompressed layout without a time channel (file format 3:
+    # first time and step, then the channels as float64), written here field by field
+    import struct
+
+    rows = np.arange(5)
+    speed, torque = 12.1 + 0.01 * rows, 3900.0 + 10.0 * rows
+    names = [f"{n:<10s}".encode() for n in ("Time", "RotSpeed", "RotTorq")]
+    units = [f"{u:<10s}".encode() for u in ("(s)", "(rpm)", "(kN-m)")]
+    description = b"binary sample"
+    blob = struct.pack("<hii", 3, 2, rows.size) + struct.pack("<dd", 0.0, 0.05)
+    blob += struct.pack("<i", len(description)) + description + b"".join(names + units)
+    blob += np.column_stack([speed, torque]).astype("<f8").tobytes()
+    path = tmp_path / "sample.outb"
+    path.write_bytes(blob)
+    ds = read_openfast_output(path)
+    np.testing.assert_allclose(ds.time.values, 0.05 * rows, rtol=0, atol=1e-15)
+    # float64 stored as written; kN-m x 1000 rounds once (1e-15 relative)
+    np.testing.assert_allclose(ds.rotor_torque.values, torque * 1e3, rtol=1e-15)
+    np.testing.assert_allclose(ds.rotor_speed.values, speed, rtol=1e-15)
