@@ -25,9 +25,21 @@ TORQUE_CHANNELS = ("RotTorq", "LSShftTq")
 
 SPEED_CHANNEL = "RotSpeed"
 
-TORQUE_UNITS = {"kn-m": 1.0e3, "kn*m": 1.0e3, "knm": 1.0e3, "kn.m": 1.0e3, "kn·m": 1.0e3,
-                "n-m": 1.0, "n*m": 1.0, "nm": 1.0, "n.m": 1.0, "n·m": 1.0,
-                "mn-m": 1.0e6, "mn·m": 1.0e6, "mnm": 1.0e6}
+TORQUE_UNITS = {
+    "kn-m": 1.0e3,
+    "kn*m": 1.0e3,
+    "knm": 1.0e3,
+    "kn.m": 1.0e3,
+    "kn·m": 1.0e3,
+    "n-m": 1.0,
+    "n*m": 1.0,
+    "nm": 1.0,
+    "n.m": 1.0,
+    "n·m": 1.0,
+    "mn-m": 1.0e6,
+    "mn·m": 1.0e6,
+    "mnm": 1.0e6,
+}
 """Torque units OpenFAST writes (``kN-m`` in ElastoDyn), to N m."""
 
 SPEED_UNITS = {"rpm": 1.0, "rad/s": 30.0 / np.pi, "deg/s": 1.0 / 6.0}
@@ -41,8 +53,7 @@ def _load(path: Path) -> tuple[np.ndarray, list[str], list[str], str]:
         from openfast_io.FAST_output_reader import FASTOutputFile
     except ImportError as exc:  # pragma: no cover - the test extra installs it
         raise ImportError(
-            "reading OpenFAST output needs the openfast-io package: "
-            "pip install 'pygear[openfast]'"
+            "reading OpenFAST output needs the openfast-io package: pip install 'pygear[openfast]'"
         ) from exc
     try:
         reader = FASTOutputFile(str(path))
@@ -108,8 +119,11 @@ def read_openfast_output(path: str | os.PathLike[str]) -> xr.Dataset:
     torque_name = next((c for c in TORQUE_CHANNELS if _column(names, c) is not None), None)
     missing = [
         label
-        for label, col in (("Time", time_col), (SPEED_CHANNEL, speed_col),
-                           ("RotTorq or LSShftTq", torque_name))
+        for label, col in (
+            ("Time", time_col),
+            (SPEED_CHANNEL, speed_col),
+            ("RotTorq or LSShftTq", torque_name),
+        )
         if col is None
     ]
     if missing:
@@ -135,14 +149,20 @@ def read_openfast_output(path: str | os.PathLike[str]) -> xr.Dataset:
             "rotor_torque": (
                 "time",
                 data[:, torque_col] * to_newton_metre,
-                {"units": "N m", "long_name": "low-speed shaft torque",
-                 "openfast_channel": f"{torque_name} [{unit(torque_col)}]"},
+                {
+                    "units": "N m",
+                    "long_name": "low-speed shaft torque",
+                    "openfast_channel": f"{torque_name} [{unit(torque_col)}]",
+                },
             ),
             "rotor_speed": (
                 "time",
                 data[:, speed_col] * to_rpm,
-                {"units": "rpm", "long_name": "rotor speed",
-                 "openfast_channel": f"{SPEED_CHANNEL} [{unit(speed_col)}]"},
+                {
+                    "units": "rpm",
+                    "long_name": "rotor speed",
+                    "openfast_channel": f"{SPEED_CHANNEL} [{unit(speed_col)}]",
+                },
             ),
         },
         coords={"time": ("time", time, {"units": "s", "long_name": "time"})},

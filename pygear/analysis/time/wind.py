@@ -235,8 +235,11 @@ def rotor_torque_series(
     return xr.Dataset(
         {
             "rotor_torque": ("time", torque, {"units": "N m", "long_name": "rotor torque"}),
-            "rotor_speed": ("time", omega * 30.0 / math.pi, {"units": "rpm",
-                                                            "long_name": "rotor speed"}),
+            "rotor_speed": (
+                "time",
+                omega * 30.0 / math.pi,
+                {"units": "rpm", "long_name": "rotor speed"},
+            ),
             "wind_speed": ("time", wind, {"units": "m/s", "long_name": "hub wind speed"}),
         },
         coords={"time": ("time", time, {"units": "s", "long_name": "time"})},
