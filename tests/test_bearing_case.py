@@ -39,7 +39,7 @@ def test_run_file_stores_the_planet_bearing_frequencies(nrel, tmp_path):
         frequencies = run.bearing_frequency.load()
         speeds = dict(zip(run.body.values.tolist(), run.equilibrium_speed.values.tolist()))
     assert outcome.transient is not None
-    assert sorted(frequencies.bearing.values.tolist()) == sorted(
+    assert sorted(frequencies.rolling_bearing.values.tolist()) == sorted(
         ["PL-A", "PL-B", "IMS-PL-A", "IMS-PL-B"]
     )
     # a planet bearing's outer ring turns with the planet, its inner ring (the pin) with
@@ -51,7 +51,7 @@ def test_run_file_stores_the_planet_bearing_frequencies(nrel, tmp_path):
     ftf = 0.5 * relative * (1.0 + ratio)  # outer ring turning, inner ring still
     bpfo = bearing.elements * (relative - ftf)
     lines = [str(v) for v in frequencies.bearing_line.values]
-    measured = frequencies.sel(bearing="PL-A").values
+    measured = frequencies.sel(rolling_bearing="PL-A").values
     found_bpfo = measured[lines.index("BPFO")]
     assert math.isfinite(found_bpfo) and found_bpfo > 0
     assert found_bpfo == pytest.approx(bpfo, rel=0.02)

@@ -57,7 +57,7 @@ def _run(path: Path, *, stored: bool) -> Path:
 def test_run_file_stores_bearing_frequencies_of_a_case_with_rolling_bearings(tmp_path):
     path = _run(tmp_path / "run.nc", stored=True)
     with xr.open_dataset(path) as run:
-        bpfo = float(run.bearing_frequency.sel(bearing="DE", bearing_line="BPFO"))
+        bpfo = float(run.bearing_frequency.sel(rolling_bearing="DE", bearing_line="BPFO"))
         # CWRU's published 3.5848 orders at 25 Hz, to its 5 digits
         assert bpfo == pytest.approx(3.5848 * 25.0, rel=3e-4)
         assert run.bearing_frequency.attrs["units"] == "Hz"
@@ -137,9 +137,11 @@ def test_analysis_references_of_a_real_case_carry_its_planet_bearings():
     assert "mesh_frequency" in references and "natural_frequency" in references
     gamma = 0.006 / 0.05
     # the planet turns 300 rpm = 5 Hz on its pin, relative to the carrier (its theta_z)
-    bpfo = float(references.bearing_frequency.sel(bearing="PL", bearing_line="BPFO"))
+    bpfo = float(references.bearing_frequency.sel(rolling_bearing="PL", bearing_line="BPFO"))
     assert bpfo == pytest.approx(14 / 2 * 5.0 * (1 - gamma), rel=1e-12)
-    assert float(references.bearing_carrier_frequency.sel(bearing="PL")) == pytest.approx(100 / 60)
+    assert float(references.bearing_carrier_frequency.sel(rolling_bearing="PL")) == pytest.approx(
+        100 / 60
+    )
 
 
 def test_a_run_whose_bearings_stand_still_is_refused_in_one_line(tmp_path, capsys):
@@ -152,3 +154,18 @@ def test_a_run_whose_bearings_stand_still_is_refused_in_one_line(tmp_path, capsy
     assert main(["analyze", str(tmp_path / "still.nc"), "--bearing-envelope"]) == 2
     err = capsys.readouterr().err.strip()
     assert "none of its rolling bearings turns" in err and len(err.splitlines()) == 1
+
+
+def test_rolling_bearing_frequencies_keep_clear_of_the_bearing_force_channels(tmp_path):
+    """A run's bearing-force channels are over ``bearing`` (the springs); the rolling
+    bearings' frequencies are over their own dimension, so a case with both writes."""
+    path = _run(tmp_path / "run.nc", stored=False)
+    with xr.open_dataset(path) as run:
+        run = run.load()
+    springs = ["stage1.planet1_bearing", "stage1.planet2_bearing", "stage1.planet3_bearing"]
+    run = run.assign(
+        bearing_force=(("time", "bearing"), np.zeros((run.sizes["time"], 3)), {"units": "N"})
+    ).assign_coords(bearing=("bearing", springs))
+    run = run.merge(bearing_references(SimpleNamespace(rolling_bearings=(BEARING,)), run))
+    assert run.sizes["bearing"] == 3 and run.sizes["rolling_bearing"] == 1
+    run.to_netcdf(tmp_path / "both.nc")

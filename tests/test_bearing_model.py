@@ -69,10 +69,10 @@ def test_run_frequencies_take_planet_speeds_relative_to_the_carrier():
     speeds = {"stage1.carrier": 12.0, "stage1.planet1": -30.0, "parallel.output_gear": 1165.0}
     elsewhere = ball(name="X", location="none")
     table = frequency_table(run_frequencies((planet, shaft, elsewhere), speeds))
-    assert list(table.bearing.values) == ["PL", "HS"]
-    assert table.bearing_shaft_frequency.sel(bearing="PL") == pytest.approx(0.5)
-    assert table.bearing_carrier_frequency.sel(bearing="PL") == pytest.approx(0.2)
-    assert table.bearing_frequency.sel(bearing="HS", bearing_line="BPFO") == pytest.approx(
+    assert list(table.rolling_bearing.values) == ["PL", "HS"]
+    assert table.bearing_shaft_frequency.sel(rolling_bearing="PL") == pytest.approx(0.5)
+    assert table.bearing_carrier_frequency.sel(rolling_bearing="PL") == pytest.approx(0.2)
+    assert table.bearing_frequency.sel(rolling_bearing="HS", bearing_line="BPFO") == pytest.approx(
         CWRU_ORDERS["BPFO"] * 1165.0 / 60.0, rel=3e-4
     )
     assert table.bearing_frequency.attrs["units"] == "Hz"

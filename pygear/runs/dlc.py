@@ -212,20 +212,6 @@ def run_load_case(case_dir: str, name: str, out_dir: str) -> dict:
             return row
         scene = load_case_scene(case, table, load, load_case_series(table, load, directory))
         assert scene.transient is not None
-        if "rolling_bearing_contact" not in scene.effects and any(
-            probe.quantity == "bearing_force" for probe in scene.transient.probes
-        ):
-            # a load case's file is for loads: without the rolling bearings'
-            # characteristic frequencies, whose "bearing" dimension (the rolling
-            # bearings) would clash with that of the bearing_force probes (the bearing
-            # springs); the case keeps only the load case's scene, so that no other
-            # scene's parameter names a rolling bearing.  Without the effect
-            # rolling_bearing_contact the rolling bearings change nothing else.
-            case = dataclasses.replace(
-                case,
-                rolling_bearings=(),
-                scenes=tuple(s for s in case.scenes if s.name == table.scene),
-            )
         out.mkdir(parents=True, exist_ok=True)
         check_scenes(case, [scene], out=out)
         _journal(out, f"started {name} {os.getpid()}")

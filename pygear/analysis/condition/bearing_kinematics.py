@@ -123,9 +123,10 @@ def bearing_frequencies(
 def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
     """Characteristic frequencies of several bearings as a Dataset (run files store it).
 
-    Variables over (``bearing``, ``bearing_line``): ``bearing_frequency`` and
-    ``bearing_modulation`` [Hz]; over ``bearing``: ``bearing_shaft_frequency`` (f_r)
-    and ``bearing_carrier_frequency`` [Hz].
+    Variables over (``rolling_bearing``, ``bearing_line``): ``bearing_frequency`` and
+    ``bearing_modulation`` [Hz]; over ``rolling_bearing``: ``bearing_shaft_frequency``
+    (f_r) and ``bearing_carrier_frequency`` [Hz].  The dimension is not ``bearing``,
+    which names a run's bearing-force channels (the springs), not the rolling bearings.
     """
     names = [f.name for f in found]
     lines = list(BEARING_LINES)
@@ -137,7 +138,7 @@ def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
     return xr.Dataset(
         {
             "bearing_frequency": (
-                ("bearing", "bearing_line"),
+                ("rolling_bearing", "bearing_line"),
                 frequency,
                 {
                     "units": "Hz",
@@ -146,7 +147,7 @@ def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
                 },
             ),
             "bearing_modulation": (
-                ("bearing", "bearing_line"),
+                ("rolling_bearing", "bearing_line"),
                 modulation,
                 {
                     "units": "Hz",
@@ -155,12 +156,12 @@ def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
                 },
             ),
             "bearing_shaft_frequency": (
-                ("bearing",),
+                ("rolling_bearing",),
                 np.array([f.relative_speed for f in found], dtype=float),
                 {"units": "Hz", "long_name": "relative ring speed f_r of the bearing"},
             ),
             "bearing_carrier_frequency": (
-                ("bearing",),
+                ("rolling_bearing",),
                 np.array([f.carrier for f in found], dtype=float),
                 {
                     "units": "Hz",
@@ -170,7 +171,11 @@ def frequency_table(found: list[BearingFrequencies]) -> xr.Dataset:
             ),
         },
         coords={
-            "bearing": (("bearing",), names, {"units": "1", "long_name": "rolling bearing"}),
+            "rolling_bearing": (
+                ("rolling_bearing",),
+                names,
+                {"units": "1", "long_name": "rolling bearing"},
+            ),
             "bearing_line": (
                 ("bearing_line",),
                 lines,
@@ -227,7 +232,7 @@ def read_frequency_table(dataset: xr.Dataset) -> list[BearingFrequencies]:
         return []
     lines = [str(k) for k in dataset["bearing_line"].values]
     found = []
-    for n, name in enumerate(dataset["bearing"].values):
+    for n, name in enumerate(dataset["rolling_bearing"].values):
         frequency = dataset["bearing_frequency"].values[n]
         modulation = dataset["bearing_modulation"].values[n]
         found.append(
