@@ -80,7 +80,9 @@
 !> Rolling bearings (module rolling_bearing), when a problem has them: each bearing's
 !> lagged load F_b - k_r (x, y) joins the meshes' in the equivalent load, from the same
 !> predictor-plus-increment state, and in the convergence test against the larger of
-!> its elements' force and its spring's; the factor keeps the body's spring k_r.
+!> its elements' force and its spring's; the factor keeps the body's spring k_r.  A
+!> bearing's contact dampers read the rings' rates b.vt + gamma dt b.x, as the mesh
+!> dampers read theirs.
 !>
 !> Loads: a drive torque on the input member and a load torque against the output
 !> member, each a law of time (constant, ramp, table) or, for the load, of the
@@ -113,7 +115,7 @@ module newmark
                            refined_stiffness, refine_solution
   use newmark_gyroscopic, only: add_rotor_load, add_gyroscopic_force, rotor_speed
   use rolling_bearing, only: bearing_rows, bearing_loads, add_bearing_loads, add_state_bearing_loads, &
-                             bp_spring
+                             bp_spring, bp_damping
   implicit none
   private
 
@@ -207,7 +209,7 @@ contains
         call add_sparse(problem%mesh, j, -mesh_var(j), rhs)
       end do
       ! rolling bearings (module rolling_bearing): their Hertz law in place of the spring
-      if (problem%bearings%n_bearing > 0) call add_state_bearing_loads(problem%bearings, q, &
+      if (problem%bearings%n_bearing > 0) call add_state_bearing_loads(problem%bearings, q, v, &
                                                                         -1.0_dp, rhs)
     end if
     if (sparse) then  ! M's factor is the problem's
@@ -347,6 +349,9 @@ contains
     logical :: nonlinear, converged, load_on, restart, separation, coast_flank, dense, single, sparse
     logical :: damped, refined, rotor, rotor_ok, bearings, excited
     real(dp), allocatable :: bearing_p(:), bearing_pt(:), gb(:, :), gb_trial(:, :), bearing_force(:, :)
+    real(dp), allocatable :: bearing_v(:), bearing_vt(:)
+    logical, allocatable :: element_contact(:, :)
+    integer(ik), allocatable :: element_flips(:, :)
     integer(ik), allocatable :: bearing_loaded(:)
     real(dp) :: bearing_change, bearing_scale
     real(dp), parameter :: landing = 1.0e-6_dp  !< switch-on-step tolerance [steps]
@@ -394,6 +399,18 @@ contains
     ! rolling bearings join the meshes' equivalent load (not on the dense path: checked)
     bearings = nonlinear .and. problem%bearings%n_bearing > 0
     allocate (bearing_p(4 * problem%bearings%n_bearing), bearing_pt(4 * problem%bearings%n_bearing))
+    allocate (bearing_v(4 * problem%bearings%n_bearing), bearing_vt(4 * problem%bearings%n_bearing))
+    bearing_v = 0.0_dp
+    bearing_vt = 0.0_dp
+    ! each element's contact and damper switches within a step (module rolling_bearing)
+    if (problem%bearings%n_bearing > 0) then
+      allocate (element_contact(maxval(problem%bearings%elements), problem%bearings%n_bearing))
+    else
+      allocate (element_contact(1, 0))
+    end if
+    allocate (element_flips(size(element_contact, 1), problem%bearings%n_bearing))
+    element_contact = .false.
+    element_flips = 0
     allocate (gb(2, problem%bearings%n_bearing), gb_trial(2, problem%bearings%n_bearing))
     allocate (bearing_force(2, problem%bearings%n_bearing), bearing_loaded(problem%bearings%n_bearing))
     gb = 0.0_dp
@@ -531,7 +548,7 @@ contains
             call add_sparse(problem%mesh, m, -alpha_f * mesh_var(m), r0)
           end do
         end if
-        if (bearings) call add_state_bearing_loads(problem%bearings, q, -alpha_f, r0)
+        if (bearings) call add_state_bearing_loads(problem%bearings, q, v, -alpha_f, r0)
       end if
       if (omega_0 > 0.0_dp .and. .not. load_on) speed_old = member_speed(problem%members, 1, v)
       if (rotor) call rotor_step()
@@ -852,11 +869,18 @@ contains
         if (first) then
           call bearing_rows(problem%bearings, qt, bearing_pt)
           bearing_p = bearing_pt
+          ! contact dampers: the rates b.vt + gamma dt b.x, as the rings' positions
+          if (any(problem%bearings%param(bp_damping, :) > 0.0_dp)) &
+            call bearing_rows(problem%bearings, vt, bearing_vt)
+          bearing_v = bearing_vt
+          element_flips = 0
         else
           call bearing_rows(problem%bearings, x, bearing_p)
+          bearing_v = bearing_vt + (gamma * dt) * bearing_p
           bearing_p = bearing_pt + (beta * dt * dt) * bearing_p
         end if
-        call bearing_loads(problem%bearings, bearing_p, gb_trial, bearing_force, bearing_loaded)
+        call bearing_loads(problem%bearings, bearing_p, bearing_v, gb_trial, bearing_force, &
+                           bearing_loaded, element_contact, element_flips, .not. first)
       end if
       if (.not. nonlinear) then
         g_x = 0.0_dp

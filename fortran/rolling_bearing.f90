@@ -10,7 +10,11 @@
 !>
 !>     delta_j = (x cos psi_j + y sin psi_j - P_d / 2) cos(alpha) - h_j
 !>
-!> and carries Q_j = K_n <delta_j>_+^n (Hertz, n = 3/2 for balls, 10/9 for rollers).
+!> and carries Q_j = K_n <delta_j>_+^n + c_c d(delta_j)/dt (Hertz, n = 3/2 for balls,
+!> 10/9 for rollers; c_c the lubricated contact's viscous damping, acting only while
+!> delta_j > 0, with the approach rate d(delta_j)/dt = (xdot cos psi_j + ydot sin psi_j)
+!> cos(alpha) of the rings' relative velocity: the rolling past and the defects' edges
+!> move the contact, they do not squeeze the film, and are left out of the rate).
 !> h_j is what defects take off the contact: a spall of angular width w and depth h on
 !> a ring at angle phi (it turns with its ring, at phi + theta_ring) takes h off every
 !> element within w / 2 of it; waviness of order N and amplitude A on a ring adds
@@ -23,7 +27,7 @@
 !> fixed-point iteration of the kernel (module newmark) converges it with the meshes'
 !> loads.  Everything here is a function of the state: no history, nothing to rebase
 !> but the ring angles (the caller keeps them out of any rigid-rotation rebasing).
-!> Contact damping, element inertia and slip are not modelled.
+!> Element inertia and slip are not modelled.
 module rolling_bearing
   use kinds, only: dp, ik
   use newmark_support, only: sparse_rows, sparse_products, add_sparse, rows_fit
@@ -33,7 +37,7 @@ module rolling_bearing
   public :: bearing_set, bearing_rows, bearing_loads, add_bearing_loads, add_state_bearing_loads, &
             check_bearing_set
   public :: bp_constant, bp_exponent, bp_clearance, bp_cos_alpha, bp_cage_inner, &
-            bp_cage_outer, bp_spring, n_bearing_param, defect_spall, defect_waviness, &
+            bp_cage_outer, bp_spring, bp_damping, n_bearing_param, defect_spall, defect_waviness, &
             ring_outer, ring_inner, bearing_rows_per
 
   integer(ik), parameter :: bp_constant = 1      !< K_n [N/m^n]
@@ -43,7 +47,8 @@ module rolling_bearing
   integer(ik), parameter :: bp_cage_inner = 5    !< (1 - gamma) / 2, cage angle per inner-ring angle [-]
   integer(ik), parameter :: bp_cage_outer = 6    !< (1 + gamma) / 2, per outer-ring angle [-]
   integer(ik), parameter :: bp_spring = 7        !< k_r, the radial spring inside K0 [N/m]
-  integer(ik), parameter :: n_bearing_param = 7  !< reals per bearing [-]
+  integer(ik), parameter :: bp_damping = 8       !< c_c, viscous damping per loaded contact [N s/m]
+  integer(ik), parameter :: n_bearing_param = 8  !< reals per bearing [-]
   integer(ik), parameter :: bearing_rows_per = 4 !< rows per bearing: x, y, theta_i, theta_o [-]
   integer(ik), parameter :: defect_spall = 1     !< a localized defect (rectangular depth profile)
   integer(ik), parameter :: defect_waviness = 2  !< race waviness
@@ -82,7 +87,8 @@ contains
           .not. (set%param(bp_exponent, b) >= 1.0_dp) .or. &
           .not. (abs(set%param(bp_clearance, b)) < 1.0_dp) .or. &
           .not. (set%param(bp_cos_alpha, b) > 0.0_dp .and. set%param(bp_cos_alpha, b) <= 1.0_dp) .or. &
-          .not. (set%param(bp_spring, b) >= 0.0_dp)) then
+          .not. (set%param(bp_spring, b) >= 0.0_dp) .or. &
+          .not. (set%param(bp_damping, b) >= 0.0_dp .and. set%param(bp_damping, b) <= huge(1.0_dp))) then
         bad = b
         return
       end if
@@ -106,18 +112,31 @@ contains
     call sparse_products(set%rows, x, p)
   end subroutine bearing_rows
 
-  !> Equivalent loads g(1:2, b) = F_b - k_r (x, y) of every bearing at the ring state p,
-  !> the elements' force F_b and the number of loaded elements.
-  pure subroutine bearing_loads(set, p, g, force, loaded)
+  !> Equivalent loads g(1:2, b) = F_b - k_r (x, y) of every bearing at the ring state p
+  !> and rates pv, the elements' force F_b and the number of loaded elements.
+  !>
+  !> Contact dampers within a step's iteration (contact, flips given): an element
+  !> touching at the start of an impact carries c_c ddelta at once, which can throw it
+  !> back out of contact, where it carries nothing: the iterates could alternate.  As
+  !> the mesh dampers (module newmark), an element's damper that switched twice within
+  !> the step (flips, counted when count is set) stays off for that step, so it engages
+  !> one step late and never acts across an open gap.
+  pure subroutine bearing_loads(set, p, pv, g, force, loaded, contact, flips, count)
     type(bearing_set), intent(in) :: set                 !< the bearings
     real(dp), intent(in) :: p(:)                         !< (4 n_bearing) x, y [m], theta_i, theta_o [rad]
+    real(dp), intent(in) :: pv(:)                        !< (4 n_bearing) their rates [m/s, rad/s]
     real(dp), intent(out) :: g(:, :)                     !< (2, n_bearing) equivalent loads [N]
     real(dp), intent(out) :: force(:, :)                 !< (2, n_bearing) F = sum Q_j cos(alpha) e_j [N]
     integer(ik), intent(out) :: loaded(:)                !< (n_bearing) elements in contact [-]
+    logical, intent(inout), optional :: contact(:, :)    !< (max Z, n_bearing) element in contact at the last call [-]
+    integer(ik), intent(inout), optional :: flips(:, :)  !< (max Z, n_bearing) its contact switches this step [-]
+    logical, intent(in), optional :: count               !< count switches against contact [-]
     integer(ik) :: b, j, d, z, base, first, last
     real(dp) :: x, y, theta_i, theta_o, cage, psi, c, s, delta, q, k_n, exponent, half_gap, &
-                cos_alpha, ring, gap, c_step, s_step, c_next, radial, half_zone, direction
-    logical :: defects, wavy
+                cos_alpha, ring, gap, c_step, s_step, c_next, radial, half_zone, direction, &
+                damping, x_rate, y_rate
+    logical :: defects, wavy, tracked, counting, was(maxval(set%elements))
+    integer(ik) :: k
 
     do b = 1, set%n_bearing
       base = bearing_rows_per * (b - 1)
@@ -125,6 +144,9 @@ contains
       y = p(base + 2)
       theta_i = p(base + 3)
       theta_o = p(base + 4)
+      x_rate = pv(base + 1)
+      y_rate = pv(base + 2)
+      damping = set%param(bp_damping, b)
       z = set%elements(b)
       k_n = set%param(bp_constant, b)
       exponent = set%param(bp_exponent, b)
@@ -133,6 +155,13 @@ contains
       cage = set%param(bp_cage_inner, b) * theta_i + set%param(bp_cage_outer, b) * theta_o
       force(:, b) = 0.0_dp
       loaded(b) = 0
+      tracked = damping > 0.0_dp .and. present(contact) .and. present(flips) .and. present(count)
+      counting = .false.
+      if (tracked) then
+        counting = count
+        was(1:z) = contact(1:z, b)
+        contact(1:z, b) = .false.
+      end if
       defects = any(set%defect(1, 1:set%n_defect) == b)
       wavy = any(set%defect(1, 1:set%n_defect) == b .and. set%defect(3, 1:set%n_defect) == &
                  defect_waviness)
@@ -180,11 +209,20 @@ contains
         if (delta > 0.0_dp) then
           q = k_n * delta * sqrt(delta)  ! n = 3/2
           if (exponent /= 1.5_dp) q = k_n * delta**exponent
+          if (tracked) then  ! the damper unless it switched twice this step
+            k = int(modulo(j, z), ik) + 1
+            contact(k, b) = .true.
+            if (counting .and. .not. was(k)) flips(k, b) = flips(k, b) + 1
+            if (flips(k, b) < 2) q = q + damping * (x_rate * c + y_rate * s) * cos_alpha
+          else if (damping > 0.0_dp) then
+            q = q + damping * (x_rate * c + y_rate * s) * cos_alpha
+          end if
           force(1, b) = force(1, b) + q * cos_alpha * c
           force(2, b) = force(2, b) + q * cos_alpha * s
           loaded(b) = loaded(b) + 1
         end if
       end do
+      if (counting) where (was(1:z) .and. .not. contact(1:z, b)) flips(1:z, b) = flips(1:z, b) + 1
       g(1, b) = force(1, b) - set%param(bp_spring, b) * x
       g(2, b) = force(2, b) - set%param(bp_spring, b) * y
     end do
@@ -204,16 +242,20 @@ contains
     end do
   end subroutine add_bearing_loads
 
-  !> y = y + s N(q): the bearings' equivalent loads at the state q over the DOFs.
-  pure subroutine add_state_bearing_loads(set, q, s, y)
+  !> y = y + s N(q, v): the bearings' equivalent loads at the state (q, v) over the DOFs.
+  pure subroutine add_state_bearing_loads(set, q, v, s, y)
     type(bearing_set), intent(in) :: set    !< the bearings
     real(dp), intent(in), contiguous :: q(:) !< displacements [m, rad]
+    real(dp), intent(in), contiguous :: v(:) !< velocities [m/s, rad/s]
     real(dp), intent(in) :: s               !< scale [-]
     real(dp), intent(inout) :: y(:)         !< accumulator over the DOFs [N, N m]
-    real(dp) :: p(bearing_rows_per * set%n_bearing), g(2, set%n_bearing), force(2, set%n_bearing)
+    real(dp) :: p(bearing_rows_per * set%n_bearing), pv(bearing_rows_per * set%n_bearing), &
+                g(2, set%n_bearing), force(2, set%n_bearing)
     integer(ik) :: loaded(set%n_bearing)
     call bearing_rows(set, q, p)
-    call bearing_loads(set, p, g, force, loaded)
+    pv = 0.0_dp
+    if (any(set%param(bp_damping, :) > 0.0_dp)) call bearing_rows(set, v, pv)
+    call bearing_loads(set, p, pv, g, force, loaded)
     call add_bearing_loads(set, g, s, y)
   end subroutine add_state_bearing_loads
 

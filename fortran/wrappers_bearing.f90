@@ -18,7 +18,7 @@ subroutine transient_problem_bearings(handle, n, kd, n_mesh, n_bearing, elements
   integer(ik), intent(in) :: n_mesh                        !< meshes [-]
   integer(ik), intent(in) :: n_bearing                     !< bearings [-]
   integer(ik), intent(in) :: elements(n_bearing)           !< Z per bearing [-]
-  real(dp), intent(in) :: param(7, n_bearing)              !< constants per bearing (bp_* layout) [SI]
+  real(dp), intent(in) :: param(8, n_bearing)              !< constants per bearing (bp_* layout) [SI]
   integer(ik), intent(in) :: rows_ptr(4 * n_bearing + 1)   !< x, y, theta_i, theta_o rows per bearing [-]
   integer(ik), intent(in) :: n_rows_nz                     !< entries of all rows [-]
   integer(ik), intent(in) :: rows_index(n_rows_nz)         !< DOF of each entry (1-based) [-]

@@ -24,6 +24,7 @@ BEARING_PARAM_LAYOUT = (
     "cage_inner",  # (1 - gamma) / 2 [-]
     "cage_outer",  # (1 + gamma) / 2 [-]
     "spring",  # k_r, the radial spring inside K0 [N/m]
+    "damping",  # c_c, viscous damping per loaded contact [N s/m]
 )
 """Order of the constants per bearing (the kernel's ``bp_*``)."""
 
@@ -44,7 +45,7 @@ class BearingTerms:
         One name per bearing, for messages.
     elements : ndarray of int, shape (n_bearing,)
         Rolling elements per row Z.
-    param : ndarray, shape (7, n_bearing)
+    param : ndarray, shape (8, n_bearing)
         Constants in :data:`BEARING_PARAM_LAYOUT` order [SI].
     rows : ndarray, shape (4 n_bearing, n)
         x, y [m/m] and theta_inner, theta_outer [rad/rad] rows of each bearing.

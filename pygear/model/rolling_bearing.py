@@ -142,6 +142,13 @@ class RollingBearing:
         rectangular depth).
     faults : tuple of DistributedFault
         Distributed faults (race waviness, wear) it carries in such a run.
+    contact_damping : float
+        c_c, viscous damping of each rolling-element contact [N s/m], >= 0: the
+        lubricant film and the contact's hysteresis, acting on the contact's approach
+        rate only while that element is loaded (kernel runs with the
+        ``rolling_bearing_contact`` effect).  0 (default): undamped contacts.  For a
+        damping ratio zeta of a contact of linearised stiffness k_c carrying a mass m:
+        c_c = 2 zeta sqrt(k_c m) (docs/bearings.md).
     """
 
     name: str
@@ -161,6 +168,7 @@ class RollingBearing:
     turning_ring: str | None = None
     defects: tuple[BearingDefect, ...] = ()
     faults: tuple[DistributedFault, ...] = ()
+    contact_damping: float = 0.0
 
     def __post_init__(self) -> None:
         self.validate(f"rolling_bearings[{self.name!r}]")
@@ -238,6 +246,11 @@ class RollingBearing:
             raise CaseError(f"{path}.location must be a string (got {self.location!r})")
         if self.turning_ring is not None:
             _require_choice(f"{path}.turning_ring", self.turning_ring, RING_TURNING)
+        damping = self.contact_damping
+        if not is_finite_number(damping) or damping < 0.0:
+            raise CaseError(
+                f"{path}.contact_damping must be finite and >= 0 N s/m (got {damping!r})"
+            )
         for n, defect in enumerate(self.defects or ()):
             if not isinstance(defect, BearingDefect):
                 raise CaseError(f"{path}.defects[{n}] must be a BearingDefect (got {defect!r})")

@@ -59,6 +59,7 @@ def bearing_constants(bearing: RollingBearing, spring: float) -> np.ndarray:
             0.5 * (1.0 - gamma),
             0.5 * (1.0 + gamma),
             spring,
+            bearing.contact_damping,
         ]
     )
 
@@ -204,7 +205,7 @@ def bearing_equivalent_load(terms: BearingTerms, q: np.ndarray) -> tuple[np.ndar
     for b in range(terms.size):
         rows = terms.row_sets(b)
         x, y, theta_i, theta_o = rows @ q
-        k_n, exponent, clearance, cos_a, cage_i, cage_o, spring = terms.param[:, b]
+        k_n, exponent, clearance, cos_a, cage_i, cage_o, spring = terms.param[:7, b]
         z = int(terms.elements[b])
         psi = cage_i * theta_i + cage_o * theta_o + 2 * math.pi * np.arange(z) / z
         c, s = np.cos(psi), np.sin(psi)
