@@ -39,7 +39,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import CaseError
 from ..model.gear_geometry import MeshGeometry
@@ -176,6 +175,8 @@ class LoadedContactTable:
 
 def equivalent_offset(force: float, loaded: np.ndarray, mean: float) -> float:
     """The c with mean(F / (delta - c)) = ``mean`` (c below every delta) [m]."""
+    from scipy.optimize import brentq  # only a loaded_contact law needs SciPy
+
     low_bound = float(loaded.min())
 
     def excess(c: float) -> float:

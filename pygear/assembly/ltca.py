@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from ..errors import CaseError
 from ..kernel import _kernel
@@ -30,6 +30,9 @@ from ..model.component_rules import is_finite_number
 from ..model.micro_geometry import Modifications, check_modifications
 from .ltca_geometry import SliceGrid, contact_rolls, separation, slice_grid
 from .tooth_stiffness import ToothBody, mesh_stiffness
+
+if TYPE_CHECKING:  # xarray only where a result is built: mesh laws import this module
+    import xarray as xr
 
 __all__ = ["contact_dataset", "loaded_contact", "solve_slices", "te_harmonics"]
 
@@ -267,6 +270,8 @@ def contact_dataset(
     with np.errstate(divide="ignore", invalid="ignore"):
         stiffness = forces[:, None] / (te - unloaded[None, :])
     force_attrs = {"units": "N", "long_name": "force along the transverse line of action"}
+    import xarray as xr
+
     return xr.Dataset(
         {
             "te_unloaded": ("position", unloaded,
