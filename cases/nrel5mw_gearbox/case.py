@@ -877,6 +877,11 @@ rolling_bearings = tuple(
         rows=2,
         diametral_clearance=clearance,
         location=f"{stage}.planet",
+        # N s/m, ASSUMED: 5 % of critical damping of one roller contact (linearised
+        # 1.8e9 .. 3.9e9 N/m from no load to the rated one) carrying a planet (1.3 t,
+        # 1.4 t): c_c = 2 zeta sqrt(k_c m) = 1.6e5 .. 2.2e5; lubricated rolling contacts
+        # are modelled with a few per cent (docs/bearings.md)
+        contact_damping=2.0e5,
     )
     for name, (stage, z, pitch, roller, length, clearance) in ROLLING_BEARING_SIZES.items()
 )
