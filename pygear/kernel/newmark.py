@@ -358,7 +358,8 @@ class BandedNewmark:
             self.meshes.deflection if self.meshes is not None else None,
             linear_solver,
         )
-        if self.bearings is not None and storage.linear_solver in ("dense_inverse", "dense_refined"):
+        dense = storage.linear_solver in ("dense_inverse", "dense_refined")
+        if self.bearings is not None and dense:
             # the dense operators hold load columns for the meshes only
             storage = kernel_storage(
                 mass,
