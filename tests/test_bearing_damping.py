@@ -140,3 +140,43 @@ def test_zero_contact_damping_is_the_undamped_run():
 def test_bad_contact_damping_is_refused_in_one_line(value):
     with pytest.raises(CaseError, match=r"contact_damping must be finite and >= 0"):
         dataclasses.replace(DROPPED, contact_damping=value)
+
+
+def test_contact_damping_reaches_the_kernel_from_a_scene_parameter():
+    """The study stage with a roller bearing on every pin: the scene parameter
+    ``rolling_bearings.PB.contact_damping`` is every planet's kernel constant, and the
+    run with it keeps the undamped run's mean pin deflection (a damper carries no
+    static load; 1e-3 of it: the two runs' vibration about the mean differs)."""
+    from pygear.analysis.time.transient import run_transient, transient_problem
+    from pygear.model.case import Scene, load_case_module
+    from pygear.model.transient_settings import Probe, TorqueLaw
+
+    _, study = load_case_module("yang2016_planetary")
+    pin = RollingBearing(
+        "PB", "roller", elements=14, pitch_diameter=0.05, element_diameter=0.008,
+        roller_length=0.008, diametral_clearance=5e-6, location="planetary.planet",
+    )  # fmt: skip
+    case = dataclasses.replace(study.case, rolling_bearings=(pin,))
+    settings = dataclasses.replace(
+        study.STEADY_SENSOR, duration=0.3, mean_window=0.3,
+        drive=TorqueLaw.constant(200.0),
+        load=TorqueLaw.generator(rated_drive_torque=200.0, exponent=study.LOAD_EXPONENT),
+        equivalent_load="iterate", start_loaded=True,
+        probes=(Probe("displacement", "planetary.planet1.zeta"),),
+    )  # fmt: skip
+    means = []
+    for damping in (0.0, 500.0):
+        scene = Scene(
+            "damped", analyses=("transient",), formulation="improved", dof_set="planar",
+            effects=("rolling_bearing_contact",), transient=settings,
+            parameters={"rolling_bearings.PB.contact_damping": damping},
+        )  # fmt: skip
+        problem = transient_problem(case.for_scene(scene), scene)
+        terms = problem.solver.bearings
+        assert terms.size == 3
+        np.testing.assert_array_equal(terms.param[7], damping)
+        run = run_transient(case.for_scene(scene), scene, problem=problem)
+        zeta = run.translation_displacement.values[0]
+        assert np.isfinite(zeta).all()
+        means.append(zeta[zeta.size // 2 :].mean())
+    assert means[1] == pytest.approx(means[0], rel=1e-3)
