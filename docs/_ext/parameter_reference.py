@@ -159,6 +159,13 @@ GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "model.rating.RollingBearingData",
         ),
     ),
+    (
+        "Design load cases",
+        "A case file's module-level ``design_load_cases = DesignLoadCases(...)``, run by "
+        "``pygear batch CASE --dlc`` (:doc:`/long_runs`): wind speeds, seeds, duration "
+        "and the torque source.",
+        ("model.dlc_settings.DesignLoadCases",),
+    ),
 )
 """Sections of the page and the dataclasses (below ``pygear.``) each documents."""
 
@@ -166,6 +173,7 @@ INTERNAL = {
     "model.scene_settings.SceneSettings": "what assembly reads of a scene, built from it",
     "model.gear_geometry.MeshModelInputs": "quantities derived from gear geometry",
     "model.plausibility.PlausibleRange": "a row of the plausible-range table, not an input",
+    "model.dlc_settings.LoadCase": "one row a design load case table expands to",
 }
 """Dataclasses of :mod:`pygear.model` that a case file never writes, and why."""
 

@@ -202,7 +202,7 @@ class DutyCycle:
     speed_rpm : tuple of float or None
         Input speed of each bin [rpm]; None runs every bin at the rating's speed.
     period_h : float or None
-        Hours the distribution stands for, when more than its bins' sum (a yearly
+        Hours the distribution stands for [h], when more than its bins' sum (a yearly
         spectrum of the operating hours stands for a year, idle hours included); None:
         the sum of ``hours``.
     """
