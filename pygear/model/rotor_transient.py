@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from ..errors import CaseError
 from .components import require_non_negative, require_positive
-from .transient_settings import INTEGRATORS
+from .transient_settings import INTEGRATORS, steps_per_sample
 
 __all__ = ["DiscUnbalance", "RotorRun", "RotorScene"]
 
@@ -88,9 +88,7 @@ class RotorRun:
     @property
     def decimation(self) -> int:
         """Steps per recorded sample."""
-        if self.sample_rate is None:
-            return 1
-        return int(round(1.0 / (self.sample_rate * self.time_step)))
+        return steps_per_sample(self.sample_rate, self.time_step)
 
     def validate(self, path: str) -> None:
         """Raise :class:`CaseError` naming the first wrong setting."""

@@ -344,6 +344,13 @@ class Probe:
             )
 
 
+def steps_per_sample(sample_rate: float | None, time_step: float) -> int:
+    """Steps per recorded sample: every step without a sample rate [-]."""
+    if sample_rate is None:
+        return 1
+    return int(round(1.0 / (sample_rate * time_step)))
+
+
 @dataclass(frozen=True)
 class Transient:
     """Settings of a transient analysis (docs/model.md §6).
@@ -453,9 +460,7 @@ class Transient:
     @property
     def decimation(self) -> int:
         """Steps per output sample."""
-        if self.sample_rate is None:
-            return 1
-        return int(round(1.0 / (self.sample_rate * self.time_step)))
+        return steps_per_sample(self.sample_rate, self.time_step)
 
     def validate(self, path: str) -> None:
         """Raise :class:`CaseError` naming the first bad setting."""
