@@ -153,6 +153,58 @@ def study_roundoff(study_case, run) -> float:
     return roundoff_tolerance(run.attrs["steps"], amplification)
 
 
+def study_steady_rotation(study_case, carrier_rpm: float, drive_torque: float) -> dict:
+    """The study case turning steadily at ``carrier_rpm`` under ``drive_torque`` on the
+    carrier, derived from its matrices (not from a run): the rigid mode through the
+    stiffness's null space, the load torque that balances the drive and the mass
+    damping's drag (r' F = alpha omega J_eq), and the static deflection under both.
+
+    Returns the model, the steady scene (constant drive and load, no probes), the rigid
+    mode per rad/s of the carrier, omega, alpha, J_eq at the carrier, the load torque on
+    the sun, the static state and each mesh's static deflection."""
+    import scipy.linalg
+
+    from pygear import TorqueLaw
+    from pygear.analysis.time.transient import transient_problem
+    from pygear.assembly.dof_rows import dof_row
+
+    base = study_case.scene("runup")
+    scene = dataclasses.replace(base, name="steady", effects=(), analyses=("transient",))
+    settings = dataclasses.replace(
+        base.transient,
+        duration=1.0,
+        sample_rate=None,
+        drive=TorqueLaw.constant(drive_torque),
+        load=TorqueLaw.constant(0.0),
+        speed_reference_rpm=None,
+        probes=(),
+    )
+    model = transient_problem(study_case, dataclasses.replace(scene, transient=settings)).model
+    carrier = dof_row(model, "planetary.carrier.theta_z")
+    sun = dof_row(model, "planetary.sun.theta_z")
+    null = scipy.linalg.null_space(model.stiffness, rcond=1e-12)
+    assert null.shape[1] == 1
+    rigid = null[:, 0] / (carrier @ null[:, 0])  # carrier turns at 1 rad/s
+    omega = carrier_rpm * math.pi / 30
+    alpha = study_case.damping.mass_coefficient
+    inertia = float(rigid @ model.mass @ rigid)  # J_eq at the carrier
+    load = (drive_torque - alpha * omega * inertia) / float(sun @ rigid)
+    force = drive_torque * carrier - load * sun - alpha * omega * (model.mass @ rigid)
+    static = np.linalg.lstsq(model.stiffness, force, rcond=None)[0]
+    settings = dataclasses.replace(settings, load=TorqueLaw.constant(load))
+    return {
+        "model": model,
+        "scene": dataclasses.replace(scene, transient=settings),
+        "rigid": rigid,
+        "omega": omega,
+        "alpha": alpha,
+        "inertia": inertia,
+        "load": load,
+        "static": static,
+        "deflection": np.array([mesh.deflection @ static for mesh in model.meshes]),
+    }
+
+
 def assert_channels_agree(reference, other, tolerance: float, round_off_only: dict) -> None:
     """Every time channel of two runs within tolerance of its scale; a channel that is
     zero in exact arithmetic is measured against the channel ``round_off_only`` names."""

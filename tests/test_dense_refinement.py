@@ -29,12 +29,10 @@ import math
 
 import numpy as np
 import pytest
-import scipy.linalg
-from conftest import DOUBLE_EPSILON
+from conftest import DOUBLE_EPSILON, study_steady_rotation
 
-from pygear import Probe, TorqueLaw
+from pygear import Probe
 from pygear.analysis.time.transient import transient_problem
-from pygear.assembly.dof_rows import dof_row
 from pygear.kernel.newmark_rebase import REBASE_ANGLE
 from pygear.kernel.newmark_support import LINEAR_SOLVER_VARIABLE
 
@@ -48,42 +46,11 @@ SAFETY = 10.0
 @pytest.fixture(scope="module")
 def steady(study_case):
     """The exact steady state of the study case and its problem on each path."""
-    base = study_case.scene("runup")
-    scene = dataclasses.replace(base, name="steady", effects=(), analyses=("transient",))
-    settings = dataclasses.replace(
-        base.transient,
-        duration=1.0,
-        sample_rate=None,
-        drive=TorqueLaw.constant(DRIVE_TORQUE),
-        load=TorqueLaw.constant(0.0),
-        speed_reference_rpm=None,
-        probes=(),
-    )
-    model = transient_problem(study_case, dataclasses.replace(scene, transient=settings)).model
-    carrier = dof_row(model, "planetary.carrier.theta_z")
-    sun = dof_row(model, "planetary.sun.theta_z")
-    null = scipy.linalg.null_space(model.stiffness, rcond=1e-12)
-    assert null.shape[1] == 1
-    rigid = null[:, 0] / (carrier @ null[:, 0])  # carrier turns at 1 rad/s
-    omega = CARRIER_RPM * math.pi / 30
-    alpha = study_case.damping.mass_coefficient
-    inertia = float(rigid @ model.mass @ rigid)
-    load = (DRIVE_TORQUE - alpha * omega * inertia) / float(sun @ rigid)
-    force = DRIVE_TORQUE * carrier - load * sun - alpha * omega * (model.mass @ rigid)
-    static = np.linalg.lstsq(model.stiffness, force, rcond=None)[0]
-    deflection = np.array([mesh.deflection @ static for mesh in model.meshes])
-    probes = tuple(Probe("mesh_deflection", mesh.name) for mesh in model.meshes)
-    settings = dataclasses.replace(settings, load=TorqueLaw.constant(load), probes=probes)
-    return {
-        "model": model,
-        "scene": dataclasses.replace(scene, transient=settings),
-        "rigid": rigid,
-        "omega": omega,
-        "alpha": alpha,
-        "inertia": inertia,
-        "static": static,
-        "deflection": deflection,
-    }
+    state = study_steady_rotation(study_case, CARRIER_RPM, DRIVE_TORQUE)
+    probes = tuple(Probe("mesh_deflection", mesh.name) for mesh in state["model"].meshes)
+    transient = dataclasses.replace(state["scene"].transient, probes=probes)
+    state["scene"] = dataclasses.replace(state["scene"], transient=transient)
+    return state
 
 
 def _run(study_case, steady: dict, path: str, monkeypatch) -> dict:

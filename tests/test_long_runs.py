@@ -23,7 +23,6 @@ measured at 1e6 and 1e7 steps with decimated probes.
 from __future__ import annotations
 
 import dataclasses
-import math
 import resource
 import time
 import tracemalloc
@@ -31,9 +30,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.linalg
+from conftest import study_steady_rotation
 
-from pygear import Probe, TorqueLaw
+from pygear import Probe
 from pygear.analysis.time.transient import transient_problem
 from pygear.assembly.dof_rows import dof_row
 
@@ -68,36 +67,14 @@ def _reset_peak_rss() -> bool:
 @pytest.fixture(scope="module")
 def steady(study_case):
     """The steady state, and runs of 1e6 and 1e7 steps started in it."""
-    base = study_case.scene("runup")
     stage = study_case.gearbox.stages[0]
-    scene = dataclasses.replace(base, name="steady", effects=(), analyses=("transient",))
-    settings = dataclasses.replace(
-        base.transient,
-        duration=1.0,
-        sample_rate=None,
-        drive=TorqueLaw.constant(DRIVE_TORQUE),
-        load=TorqueLaw.constant(0.0),
-        speed_reference_rpm=None,
-        probes=(),
-    )
-    model = transient_problem(study_case, dataclasses.replace(scene, transient=settings)).model
-    carrier = dof_row(model, "planetary.carrier.theta_z")
-    sun = dof_row(model, "planetary.sun.theta_z")
-    null = scipy.linalg.null_space(model.stiffness, rcond=1e-12)
-    assert null.shape[1] == 1
-    rigid = null[:, 0] / (carrier @ null[:, 0])  # carrier turns at 1 rad/s
-    omega = CARRIER_RPM * math.pi / 30
-    alpha = study_case.damping.mass_coefficient
-    inertia = float(rigid @ model.mass @ rigid)  # J_eq at the carrier
-    ratio = float(sun @ rigid)
-    load = (DRIVE_TORQUE - alpha * omega * inertia) / ratio  # r'F = alpha omega J_eq
-    force = DRIVE_TORQUE * carrier - load * sun - alpha * omega * (model.mass @ rigid)
-    static = np.linalg.lstsq(model.stiffness, force, rcond=None)[0]
-    deflection = np.array([mesh.deflection @ static for mesh in model.meshes])
-
+    state = study_steady_rotation(study_case, CARRIER_RPM, DRIVE_TORQUE)
+    model, scene, static = state["model"], state["scene"], state["static"]
+    rigid, omega, alpha = state["rigid"], state["omega"], state["alpha"]
+    inertia, load, deflection = state["inertia"], state["load"], state["deflection"]
     probes = tuple(Probe("mesh_deflection", mesh.name) for mesh in model.meshes)
     probes += (Probe("speed", "planetary.carrier"), Probe("speed", "planetary.sun"))
-    settings = dataclasses.replace(settings, load=TorqueLaw.constant(load), probes=probes)
+    settings = dataclasses.replace(scene.transient, probes=probes)
     problem = transient_problem(study_case, dataclasses.replace(scene, transient=settings))
     runs = {}
     for steps in (SHORT, LONG):
