@@ -25,7 +25,6 @@ import argparse
 import dataclasses
 import json
 import math
-import subprocess
 import sys
 from functools import partial
 from pathlib import Path
@@ -34,7 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from timing import median_seconds  # noqa: E402
+from timing import median_seconds, run_peer  # noqa: E402
 
 from pygear.analysis.modes.sparse_gyroscopic import solve  # noqa: E402
 from pygear.assembly.drivetrain import assemble_drivetrain  # noqa: E402
@@ -69,19 +68,6 @@ print(json.dumps({"dofs": rotor.ndof, "runs": out}))
 """
 
 
-def _ross(python: str, elements: int, speeds: list[float], repeats: int) -> dict | None:
-    done = subprocess.run(
-        [python, "-c", ROSS_SCRIPT, str(elements), json.dumps(speeds), str(repeats)],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    if done.returncode != 0:
-        print(f"ROSS not run: {done.stderr.strip().splitlines()[-1:]}")
-        return None
-    return json.loads(done.stdout.strip().splitlines()[-1])
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--elements", type=int, default=66, help="elements per section")
@@ -98,7 +84,9 @@ def main() -> None:
     )
     model = assemble_drivetrain(case)
     speeds = [0.0, 4000.0]
-    ross = _ross(args.ross_python, args.elements, speeds, args.repeats)
+    ross = run_peer(
+        args.ross_python, ROSS_SCRIPT, str(args.elements), json.dumps(speeds), str(args.repeats)
+    )
     print(f"Friswell rotor, {args.elements} elements per section: {model.size} DOFs")
     print(f"{'speed':>6} {'sparse [s]':>11} {'dense [s]':>10} {'ross [s]':>9} {'max rel diff':>13}")
     for speed in speeds:

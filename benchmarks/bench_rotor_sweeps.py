@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import subprocess
 import sys
 from functools import partial
 from pathlib import Path
@@ -39,7 +38,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from timing import median_seconds  # noqa: E402
+from timing import median_seconds, run_peer  # noqa: E402
 
 from pygear.analysis.modes.sparse_gyroscopic import rotor_campbell  # noqa: E402
 from pygear.analysis.response.rotor import Unbalance, unbalance_response  # noqa: E402
@@ -82,28 +81,6 @@ print(json.dumps({
 """
 
 
-def _ross(python: str, elements: int, campbell: list, unbalance: list) -> dict | None:
-    done = subprocess.run(
-        [
-            python,
-            "-W",
-            "ignore",
-            "-c",
-            ROSS_SCRIPT,
-            str(elements),
-            json.dumps(campbell),
-            json.dumps(unbalance),
-        ],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    if done.returncode != 0:
-        print(f"ROSS not run: {done.stderr.strip().splitlines()[-1:]}")
-        return None
-    return json.loads(done.stdout.strip().splitlines()[-1])
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--elements", type=int, default=22, help="elements per section")
@@ -134,7 +111,13 @@ def main() -> None:
         "campbell": median_seconds(partial(campbell), args.repeats),
         "unbalance": median_seconds(partial(unbalance), args.repeats),
     }
-    ross = _ross(args.ross_python, args.elements, campbell_rpm.tolist(), unbalance_rpm.tolist())
+    ross = run_peer(
+        args.ross_python,
+        ROSS_SCRIPT,
+        str(args.elements),
+        json.dumps(campbell_rpm.tolist()),
+        json.dumps(unbalance_rpm.tolist()),
+    )
     print(
         f"Friswell rotor, {args.elements} elements per section: {model.size} DOFs"
         + (f" (ROSS {ross['dofs']})" if ross else "")

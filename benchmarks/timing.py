@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import json
 import statistics
+import subprocess
 import time
 from collections.abc import Callable
 
@@ -17,3 +19,19 @@ def median_seconds(function: Callable[[], object], repeats: int, *, warm_up: boo
         function()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
+
+
+def run_peer(python: str, script: str, *arguments: str) -> dict | None:
+    """Run a peer's benchmark ``script`` with ``python`` (its own environment) and return
+    the JSON object on its last line of output; None, saying why, when it cannot run
+    (the peer is not installed, or it failed)."""
+    done = subprocess.run(
+        [python, "-W", "ignore", "-c", script, *arguments],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if done.returncode != 0:
+        print(f"peer not run: {done.stderr.strip().splitlines()[-1:]}")
+        return None
+    return json.loads(done.stdout.strip().splitlines()[-1])
